@@ -1,0 +1,70 @@
+#include "config_reader.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+namespace fusecal {
+
+Check<std::string> OneOf(std::vector<std::string> allowed) {
+  return [allowed](const std::string& v) {
+    if (std::find(allowed.begin(), allowed.end(), v) != allowed.end()) return std::string();
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    return "unknown value '" + v + "' (expected one of: " + list + ")";
+  };
+}
+
+ConfigReader::ConfigReader(YAML::Node node, std::string source, std::string prefix)
+    : node_(std::move(node)), source_(std::move(source)), prefix_(std::move(prefix)) {
+  if (node_ && !node_.IsNull() && !node_.IsMap())
+    throw ConfigError(source_ + ": " + (prefix_.empty() ? std::string("top level") : prefix_) +
+                      " must be a map of keys");
+}
+
+ConfigReader ConfigReader::FromFile(const std::string& path) {
+  try {
+    return ConfigReader(YAML::LoadFile(path), path);
+  } catch (const YAML::BadFile&) {
+    throw ConfigError(path + ": cannot open file");
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError(path + ": YAML syntax error: " + e.what());
+  }
+}
+
+ConfigReader ConfigReader::FromString(const std::string& text) {
+  try {
+    return ConfigReader(YAML::Load(text), "<string>");
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError(std::string("<string>: YAML syntax error: ") + e.what());
+  }
+}
+
+bool ConfigReader::Has(const std::string& key) const {
+  return node_ && node_.IsMap() && node_[key];
+}
+
+ConfigReader ConfigReader::Child(const std::string& key) {
+  read_.insert(key);
+  if (!Has(key)) return ConfigReader(YAML::Node(), source_, PathOf(key));
+  return ConfigReader(node_[key], source_, PathOf(key));
+}
+
+void ConfigReader::Finish() const {
+  if (!node_ || !node_.IsMap()) return;
+  std::vector<std::string> unknown;
+  for (const auto& kv : node_) {
+    const auto key = kv.first.as<std::string>();
+    if (!read_.count(key)) unknown.push_back(PathOf(key));
+  }
+  if (unknown.empty()) return;
+  std::ostringstream msg;
+  msg << source_ << ": unknown key" << (unknown.size() > 1 ? "s" : "") << ":";
+  for (const auto& k : unknown) msg << " '" << k << "'";
+  throw ConfigError(msg.str());
+}
+
+void ConfigReader::Fail(const std::string& key, const std::string& what) const {
+  throw ConfigError(source_ + ": '" + PathOf(key) + "' " + what);
+}
+
+}  // namespace fusecal
