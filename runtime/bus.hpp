@@ -1,0 +1,108 @@
+// The message bus every process talks through (after Drake's DrakeLcmInterface): publish LCM-encoded
+// bytes on a channel, subscribe with a handler, dispatch with Handle(timeout). Implementations: LCM
+// (udpm://, memq://, file://) and, later, DDS. Typed Publish<M>/Subscribe<M> work for every lcm-gen type.
+//
+// Handlers run inside Handle() on the caller's thread. An exception thrown by a handler is caught at the
+// transport boundary and rethrown from Handle(), so that errors are never swallowed inside C callbacks.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace fusecal {
+
+// Wall-clock time in microseconds since the epoch (LCM's utime).
+int64_t NowUtime();
+
+class BusError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// One received message: its channel, its bytes, and when the bus received it.
+struct RawMessage {
+  const std::string& channel;
+  const uint8_t* data;
+  size_t size;
+  int64_t receive_utime;
+};
+using RawHandler = std::function<void(const RawMessage&)>;
+
+class Bus;
+
+// Handle returned by Subscribe; Unsubscribe() stops delivery. Safe to call twice, or after the bus
+// is gone.
+class Subscription {
+ public:
+  Subscription() = default;
+  explicit Subscription(std::function<void()> unsubscribe) : unsubscribe_(std::move(unsubscribe)) {}
+  void Unsubscribe() {
+    if (unsubscribe_) unsubscribe_();
+    unsubscribe_ = nullptr;
+  }
+
+ private:
+  std::function<void()> unsubscribe_;
+};
+
+class Bus {
+ public:
+  virtual ~Bus() = default;
+
+  // The URL this bus was created from.
+  virtual std::string url() const = 0;
+
+  virtual void PublishRaw(const std::string& channel, const void* data, size_t size) = 0;
+
+  // `channel` is a regular expression matched against the whole channel name (as LCM does); plain
+  // names of letters, digits and '_' match themselves.
+  virtual Subscription SubscribeRaw(const std::string& channel, RawHandler handler) = 0;
+
+  // Waits up to timeout_ms (0: do not wait) for messages and dispatches every message that is
+  // queued. Returns the number of messages delivered to handlers (0 on a timeout, and at the end of a
+  // replayed log). Rethrows the first exception thrown by a handler.
+  virtual int Handle(int timeout_ms) = 0;
+
+  template <typename M>
+  void Publish(const std::string& channel, const M& message) {
+    std::vector<uint8_t> buffer(message.getEncodedSize());
+    if (message.encode(buffer.data(), 0, static_cast<int>(buffer.size())) < 0)
+      throw BusError("cannot encode message for channel " + channel);
+    PublishRaw(channel, buffer.data(), buffer.size());
+  }
+
+  // Handler receives the decoded message. A message that fails to decode (wrong type on the channel,
+  // truncated) raises BusError from Handle() naming the channel.
+  template <typename M>
+  Subscription Subscribe(const std::string& channel,
+                         std::function<void(const M& message, const RawMessage& raw)> handler) {
+    return SubscribeRaw(channel, [handler = std::move(handler)](const RawMessage& raw) {
+      M message;
+      if (message.decode(raw.data, 0, static_cast<int>(raw.size)) < 0)
+        throw BusError("cannot decode a " + std::string(M::getTypeName()) + " on channel " + raw.channel);
+      handler(message, raw);
+    });
+  }
+
+  template <typename M>
+  Subscription Subscribe(const std::string& channel, std::function<void(const M& message)> handler) {
+    return Subscribe<M>(channel, std::function<void(const M&, const RawMessage&)>(
+                                     [handler = std::move(handler)](const M& m, const RawMessage&) {
+                                       handler(m);
+                                     }));
+  }
+};
+
+// Creates the bus named by `url`: any LCM URL (udpm://, memq://, file://...). Throws BusError with the
+// reason when the URL is unknown or the transport cannot start.
+std::unique_ptr<Bus> MakeBus(const std::string& url);
+
+// The default URL when none is given: $LCM_DEFAULT_URL, else loopback multicast with a 64 MB receive
+// buffer (large messages are dropped with the kernel default; see `fusecal doctor`).
+std::string DefaultBusUrl();
+
+}  // namespace fusecal

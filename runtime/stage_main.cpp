@@ -1,0 +1,109 @@
+#include "runtime/stage_main.hpp"
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <csignal>
+#include <iostream>
+
+#include "fusecal/status_t.hpp"
+#include "runtime/config_reader.hpp"
+#include "runtime/version.hpp"
+
+namespace fusecal {
+
+namespace {
+
+std::atomic<bool> g_stop_requested{false};
+
+void OnStopSignal(int) { g_stop_requested = true; }
+
+std::string HostName() {
+  char name[256] = {0};
+  gethostname(name, sizeof(name) - 1);
+  return name;
+}
+
+}  // namespace
+
+void PublishStatus(Bus& bus, const std::string& name, const StageStatus& status,
+                   const std::string& last_error) {
+  status_t msg{};
+  msg.utime = NowUtime();
+  msg.name = name;
+  msg.host = HostName();
+  msg.pid = static_cast<int32_t>(getpid());
+  msg.state = status.state;
+  for (const auto& [counter, value] : status.counters) {
+    msg.counter_names.push_back(counter);
+    msg.counter_values.push_back(value);
+  }
+  msg.num_counters = static_cast<int32_t>(msg.counter_names.size());
+  msg.last_error = last_error;
+  bus.Publish(kStatusChannel, msg);
+}
+
+int StageMain(int argc, char** argv, const StageDefinition& stage) {
+  CLI::App app{stage.description, "fusecal-" + stage.name};
+  std::string config_path = stage.default_config;
+  std::string bus_url;
+  app.add_option("--config", config_path, "YAML config of this stage");
+  app.add_option("--bus", bus_url, "bus URL (default: $LCM_DEFAULT_URL or loopback multicast)");
+  app.set_version_flag("--version", std::string(kFusecalVersion));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  std::unique_ptr<StageNode> node;
+  try {
+    node = stage.make_node(config_path);
+  } catch (const std::exception& e) {
+    std::cerr << "fusecal-" << stage.name << ": " << e.what() << "\n";
+    return 2;
+  }
+  std::unique_ptr<Bus> bus;
+  try {
+    bus = MakeBus(bus_url);
+    node->Start(*bus);
+  } catch (const std::exception& e) {
+    std::cerr << "fusecal-" << stage.name << ": " << e.what() << "\n";
+    return 1;
+  }
+
+  std::signal(SIGINT, OnStopSignal);
+  std::signal(SIGTERM, OnStopSignal);
+  std::string last_error;
+  int64_t next_heartbeat = 0;
+  std::cerr << "fusecal-" << stage.name << ": running on " << bus->url() << "\n";
+  while (!g_stop_requested) {
+    try {
+      bus->Handle(100);
+      node->Tick(*bus, NowUtime());
+    } catch (const std::exception& e) {
+      last_error = e.what();
+      std::cerr << "fusecal-" << stage.name << ": error: " << last_error << " (still running)\n";
+    }
+    const int64_t now = NowUtime();
+    if (now >= next_heartbeat) {
+      try {
+        PublishStatus(*bus, stage.name, node->Status(), last_error);
+      } catch (const std::exception& e) {
+        std::cerr << "fusecal-" << stage.name << ": heartbeat failed: " << e.what() << "\n";
+      }
+      next_heartbeat = now + 1000000;
+    }
+  }
+  StageStatus final_status = node->Status();
+  final_status.state = "stopped";
+  try {
+    PublishStatus(*bus, stage.name, final_status, last_error);
+  } catch (const std::exception&) {
+  }
+  std::cerr << "fusecal-" << stage.name << ": stopped\n";
+  return 0;
+}
+
+}  // namespace fusecal

@@ -1,0 +1,50 @@
+// The common `main` of a stage process: flags (--config, --bus, --help, --version), clean exit on
+// SIGINT/SIGTERM, a STATUS heartbeat at 1 Hz, and a loop that dispatches messages. A handler that throws
+// is reported (stderr and STATUS.last_error) and the process keeps running: nothing computed is lost.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "runtime/bus.hpp"
+
+namespace fusecal {
+
+// What a stage reports in its heartbeat.
+struct StageStatus {
+  std::string state = "running";
+  std::map<std::string, double> counters;
+};
+
+class StageNode {
+ public:
+  virtual ~StageNode() = default;
+  // Subscribe to the channels the stage needs.
+  virtual void Start(Bus& bus) = 0;
+  // Called about every 100 ms and after each batch of messages (timeouts, retries).
+  virtual void Tick(Bus& bus, int64_t now_utime) {}
+  virtual StageStatus Status() const = 0;
+};
+
+struct StageDefinition {
+  std::string name;         // e.g. "handeye"; STATUS is published with this name
+  std::string description;  // one line for --help
+  std::string default_config;  // path used when --config is not given; may be empty
+  // Builds the node from a config file path (empty: defaults). Throws ConfigError on bad config.
+  std::function<std::unique_ptr<StageNode>(const std::string& config_path)> make_node;
+};
+
+// Channel of the heartbeat.
+inline constexpr const char* kStatusChannel = "STATUS";
+
+// Runs a stage until SIGINT/SIGTERM. Returns the process exit status (0 on a clean stop, 2 on bad
+// flags or config, 1 when the bus cannot start).
+int StageMain(int argc, char** argv, const StageDefinition& stage);
+
+// Builds and publishes one STATUS message.
+void PublishStatus(Bus& bus, const std::string& name, const StageStatus& status,
+                   const std::string& last_error);
+
+}  // namespace fusecal

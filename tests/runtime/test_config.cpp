@@ -1,0 +1,70 @@
+#include <gtest/gtest.h>
+
+#include "runtime/config_reader.hpp"
+
+namespace fusecal {
+namespace {
+
+struct Settings {
+  double max_range_m = 100;
+  int beams = 64;
+  std::string model = "multibeam";
+};
+
+Settings Load(const std::string& text) {
+  Settings s;
+  ConfigReader r = ConfigReader::FromString(text);
+  ConfigReader lidar = r.Child("lidar");
+  lidar.Get("max_range_m", &s.max_range_m, Positive<double>());
+  lidar.Get("beams", &s.beams, InRange(1, 128));
+  lidar.Get("model", &s.model, OneOf({"multibeam", "panoramic"}));
+  lidar.Finish();
+  r.Finish();
+  return s;
+}
+
+// Expects a ConfigError whose message contains `key`.
+void ExpectErrorNaming(const std::string& text, const std::string& key) {
+  try {
+    Load(text);
+    FAIL() << "accepted: " << text;
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+  }
+}
+
+TEST(Config, ReadsValuesAndKeepsDefaults) {
+  const Settings s = Load("lidar: {beams: 32}");
+  EXPECT_EQ(s.beams, 32);
+  EXPECT_EQ(s.max_range_m, 100);
+  EXPECT_EQ(s.model, "multibeam");
+}
+
+TEST(Config, UnknownKeysAreNamed) {
+  ExpectErrorNaming("lidar: {beams: 32, bemas: 3}", "lidar.bemas");
+  ExpectErrorNaming("lidra: {}", "lidra");
+}
+
+TEST(Config, InvalidValuesNameTheKey) {
+  ExpectErrorNaming("lidar: {max_range_m: -3}", "lidar.max_range_m");
+  ExpectErrorNaming("lidar: {beams: 500}", "lidar.beams");
+  ExpectErrorNaming("lidar: {beams: many}", "lidar.beams");
+  ExpectErrorNaming("lidar: {model: solid_state}", "lidar.model");
+  ExpectErrorNaming("lidar: {max_range_m: .nan}", "lidar.max_range_m");
+}
+
+TEST(Config, RequiredKeysAndSyntaxErrors) {
+  ConfigReader r = ConfigReader::FromString("a: 1");
+  int b = 0;
+  try {
+    r.Require("b", &b);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("'b' is required"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ConfigReader::FromString("a: [1, 2"), ConfigError);
+  EXPECT_THROW(ConfigReader::FromFile("/nonexistent/config.yaml"), ConfigError);
+}
+
+}  // namespace
+}  // namespace fusecal

@@ -1,0 +1,14 @@
+// Each subcommand of `fusecal` registers itself on the CLI11 app. A command's callback stores its
+// exit status in *exit_code.
+#pragma once
+
+namespace CLI {
+class App;
+}
+
+namespace fusecal {
+
+void AddDoctorCommand(CLI::App& app, int* exit_code);
+void AddLogCommands(CLI::App& app, int* exit_code);
+
+}  // namespace fusecal

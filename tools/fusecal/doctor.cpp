@@ -1,0 +1,190 @@
+#include "doctor.hpp"
+
+#include <net/if.h>
+#include <sys/statvfs.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "runtime/bus.hpp"
+
+namespace fusecal {
+
+namespace {
+
+int64_t ReadNumber(const std::string& path) {
+  std::ifstream in(path);
+  int64_t value = -1;
+  in >> value;
+  return value;
+}
+
+// Interface of the most specific route covering 224.0.0.0/4 in /proc/net/route (destination and mask
+// in little-endian hex), or empty when none does.
+std::string MulticastRouteInterface() {
+  std::ifstream in("/proc/net/route");
+  std::string line, best;
+  unsigned long best_mask = 0;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::string iface, dest, gateway, flags, refcnt, use, metric, mask;
+    fields >> iface >> dest >> gateway >> flags >> refcnt >> use >> metric >> mask;
+    const unsigned long d = std::strtoul(dest.c_str(), nullptr, 16);
+    const unsigned long m = std::strtoul(mask.c_str(), nullptr, 16);
+    if ((d & m) != (0xE0ul & m)) continue;
+    if (best.empty() || __builtin_popcountl(m) > __builtin_popcountl(best_mask)) {
+      best = iface;
+      best_mask = m;
+    }
+  }
+  return best;
+}
+
+bool LoopbackHasMulticast() {
+  std::ifstream in("/sys/class/net/lo/flags");
+  std::string text;
+  in >> text;
+  return (std::strtol(text.c_str(), nullptr, 16) & IFF_MULTICAST) != 0;
+}
+
+// ttl=0 keeps traffic on this host: a route on lo is the clean set-up. ttl>=1 spans machines and
+// needs a route through a real interface.
+DoctorFinding CheckRoute(const std::string& url) {
+  DoctorFinding f;
+  f.check = "multicast route";
+  const std::string ttl = UrlParameter(url, "ttl");
+  const bool host_only = ttl.empty() || ttl == "0";
+  const std::string iface = MulticastRouteInterface();
+  if (iface.empty()) {
+    f.ok = false;
+    f.loses_messages = true;
+    f.detail = "no route covers 224.0.0.0/4: multicast cannot be sent";
+    f.fix = host_only ? "ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo"
+                      : "ip route add 224.0.0.0/4 dev <your LAN interface>";
+    return f;
+  }
+  if (host_only && (iface != "lo" || !LoopbackHasMulticast())) {
+    f.ok = false;  // works (ttl=0 never leaves the host), but the loopback route is the clean set-up
+    f.detail = "multicast goes through " + iface + (iface == "lo" ? " without the MULTICAST flag" : "") +
+               "; with ttl=0 a loopback route keeps it on this host";
+    f.fix = "ip link set lo multicast on && ip route replace 224.0.0.0/4 dev lo";
+    return f;
+  }
+  f.detail = "224.0.0.0/4 is routed through " + iface;
+  return f;
+}
+
+DoctorFinding CheckReceiveBuffer(const std::string& url) {
+  DoctorFinding f;
+  f.check = "receive buffer";
+  const int64_t rmem_max = ReadNumber("/proc/sys/net/core/rmem_max");
+  const std::string wanted_text = UrlParameter(url, "recv_buf_size");
+  if (wanted_text.empty()) {
+    f.ok = false;
+    f.loses_messages = true;
+    f.detail = "the bus URL sets no recv_buf_size: with the kernel default, multi-megabyte scans and "
+               "images are dropped (measured: 0 of 50 2 MB messages)";
+    f.fix = "add recv_buf_size=67108864 to the bus URL, e.g. "
+            "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=67108864";
+    return f;
+  }
+  const int64_t wanted = std::atoll(wanted_text.c_str());
+  f.ok = rmem_max >= wanted;
+  f.loses_messages = !f.ok;
+  f.detail = "net.core.rmem_max = " + std::to_string(rmem_max) + ", the bus asks for " +
+             std::to_string(wanted);
+  if (!f.ok)
+    f.fix = "sysctl -w net.core.rmem_max=" + std::to_string(wanted) +
+            " (persist: echo net.core.rmem_max=" + std::to_string(wanted) +
+            " > /etc/sysctl.d/60-fusecal.conf)";
+  return f;
+}
+
+DoctorFinding CheckSharedMemory() {
+  DoctorFinding f;
+  f.check = "/dev/shm";
+  struct statvfs st {};
+  if (statvfs("/dev/shm", &st) != 0) {
+    f.ok = false;
+    f.detail = "/dev/shm is missing (needed by the shared-memory transport only)";
+    f.fix = "mount -t tmpfs -o size=2g tmpfs /dev/shm";
+    return f;
+  }
+  const double gib = double(st.f_blocks) * st.f_frsize / (1024.0 * 1024.0 * 1024.0);
+  f.ok = gib >= 1.0;
+  std::ostringstream detail;
+  detail.precision(2);
+  detail << std::fixed << gib << " GiB (the shared-memory transport needs about 1 GiB)";
+  f.detail = detail.str();
+  if (!f.ok) f.fix = "mount -o remount,size=2g /dev/shm";
+  return f;
+}
+
+DoctorFinding CheckLiveRoundTrip(const std::string& url) {
+  DoctorFinding f;
+  f.check = "bus round trip";
+  try {
+    auto bus = MakeBus(url);
+    const std::vector<uint8_t> payload(1 << 20, 0x5a);
+    size_t received = 0;
+    auto sub = bus->SubscribeRaw("FUSECAL_DOCTOR_PROBE", [&](const RawMessage& m) { received = m.size; });
+    bus->PublishRaw("FUSECAL_DOCTOR_PROBE", payload.data(), payload.size());
+    for (int i = 0; i < 10 && received == 0; ++i) bus->Handle(100);
+    f.ok = received == payload.size();
+    f.detail = f.ok ? "a 1 MB message went round " + url : "a 1 MB message published on " + url +
+                                                                " did not come back within 1 s";
+  } catch (const std::exception& e) {
+    f.ok = false;
+    f.detail = e.what();
+  }
+  f.loses_messages = !f.ok;
+  if (!f.ok) f.fix = "fix the problems above, then run `fusecal doctor` again";
+  return f;
+}
+
+}  // namespace
+
+std::string UrlParameter(const std::string& url, const std::string& key) {
+  const auto query = url.find('?');
+  if (query == std::string::npos) return {};
+  std::istringstream params(url.substr(query + 1));
+  std::string item;
+  while (std::getline(params, item, '&')) {
+    const auto eq = item.find('=');
+    if (eq != std::string::npos && item.substr(0, eq) == key) return item.substr(eq + 1);
+  }
+  return {};
+}
+
+std::vector<DoctorFinding> RunDoctor(const std::string& bus_url, bool apply_fixes) {
+  const std::string url = bus_url.empty() ? DefaultBusUrl() : bus_url;
+  const bool multicast = url.rfind("udpm://", 0) == 0;
+  auto run_checks = [&] {
+    std::vector<DoctorFinding> findings;
+    if (multicast) {
+      findings.push_back(CheckRoute(url));
+      findings.push_back(CheckReceiveBuffer(url));
+    }
+    findings.push_back(CheckSharedMemory());
+    return findings;
+  };
+  std::vector<DoctorFinding> findings = run_checks();
+  if (apply_fixes) {
+    for (const auto& f : findings) {
+      if (f.ok || f.fix.empty() || f.fix.rfind("add ", 0) == 0) continue;
+      const std::string command = f.fix.substr(0, f.fix.find(" (persist"));
+      if (command.find('<') != std::string::npos) continue;  // needs the user's choice
+      std::cout << "running: " << command << std::endl;
+      if (std::system(("(" + command + ") >/dev/null 2>&1").c_str()) != 0)
+        std::cout << "  failed (are you root?)" << std::endl;
+    }
+    findings = run_checks();
+  }
+  if (multicast || url.rfind("memq://", 0) == 0) findings.push_back(CheckLiveRoundTrip(url));
+  return findings;
+}
+
+}  // namespace fusecal

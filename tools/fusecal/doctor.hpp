@@ -1,0 +1,24 @@
+// `fusecal doctor`: checks what the bus needs on this machine and says how to fix each problem.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace fusecal {
+
+struct DoctorFinding {
+  std::string check;    // e.g. "receive buffer"
+  bool ok = true;
+  bool loses_messages = false;  // a problem that would drop messages (exit status 1)
+  std::string detail;   // what was found
+  std::string fix;      // the exact command that fixes it (empty when ok)
+};
+
+// Runs every check for the given bus URL (empty: the default URL). With `apply_fixes`, runs the fix
+// commands first (needs root) and then checks again.
+std::vector<DoctorFinding> RunDoctor(const std::string& bus_url, bool apply_fixes);
+
+// The value of `key=` in the query of a URL, or empty.
+std::string UrlParameter(const std::string& url, const std::string& key);
+
+}  // namespace fusecal

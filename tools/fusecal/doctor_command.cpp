@@ -1,0 +1,32 @@
+// `fusecal doctor [--bus URL] [--fix]`.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "commands.hpp"
+#include "doctor.hpp"
+#include "runtime/bus.hpp"
+
+namespace fusecal {
+
+void AddDoctorCommand(CLI::App& app, int* exit_code) {
+  auto* doctor = app.add_subcommand("doctor", "check that this machine can carry the bus without loss");
+  static std::string bus_url;
+  static bool fix = false;
+  doctor->add_option("--bus", bus_url, "bus URL to check (default: $LCM_DEFAULT_URL or loopback multicast)");
+  doctor->add_flag("--fix", fix, "run the fixes (needs root), then check again");
+  doctor->callback([exit_code] {
+    const auto findings = RunDoctor(bus_url, fix);
+    bool loses = false;
+    std::cout << "bus: " << (bus_url.empty() ? DefaultBusUrl() : bus_url) << "\n";
+    for (const auto& f : findings) {
+      std::cout << (f.ok ? "  ok       " : (f.loses_messages ? "  PROBLEM  " : "  warning  ")) << f.check
+                << ": " << f.detail << "\n";
+      if (!f.ok && !f.fix.empty()) std::cout << "           fix: " << f.fix << "\n";
+      loses = loses || (!f.ok && f.loses_messages);
+    }
+    std::cout << (loses ? "messages would be lost: fix the problems above\n" : "the bus is ready\n");
+    *exit_code = loses ? 1 : 0;
+  });
+}
+
+}  // namespace fusecal

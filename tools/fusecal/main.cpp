@@ -1,0 +1,20 @@
+// `fusecal`: one executable, one subcommand per job.
+#include <CLI/CLI.hpp>
+
+#include "commands.hpp"
+#include "runtime/version.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"fusecal: targetless LiDAR-camera extrinsic calibration from sensor motion"};
+  app.set_version_flag("--version", std::string(fusecal::kFusecalVersion));
+  app.require_subcommand(1);
+  int exit_code = 0;
+  fusecal::AddDoctorCommand(app, &exit_code);
+  fusecal::AddLogCommands(app, &exit_code);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  return exit_code;
+}
