@@ -9,6 +9,7 @@
 #include <string>
 
 #include "runtime/bus.hpp"
+#include "runtime/channels.hpp"
 
 namespace fusecal {
 
@@ -37,7 +38,7 @@ struct StageDefinition {
 };
 
 // Channel of the heartbeat.
-inline constexpr const char* kStatusChannel = "STATUS";
+inline constexpr const char* kStatusChannel = channels::kStatus;
 
 // Runs a stage until SIGINT/SIGTERM. Returns the process exit status (0 on a clean stop, 2 on bad
 // flags or config, 1 when the bus cannot start).

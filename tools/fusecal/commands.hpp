@@ -10,5 +10,7 @@ namespace fusecal {
 
 void AddDoctorCommand(CLI::App& app, int* exit_code);
 void AddLogCommands(CLI::App& app, int* exit_code);
+void AddEvaluateCommand(CLI::App& app, int* exit_code);
+void AddExportCommand(CLI::App& app, int* exit_code);
 
 }  // namespace fusecal

@@ -11,6 +11,8 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   fusecal::AddDoctorCommand(app, &exit_code);
   fusecal::AddLogCommands(app, &exit_code);
+  fusecal::AddEvaluateCommand(app, &exit_code);
+  fusecal::AddExportCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,35 @@
+// `fusecal evaluate --result RESULT.yaml --truth LOG_OR_YAML`: one JSON line with the error.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "commands.hpp"
+#include "common/extrinsic_error.hpp"
+#include "runtime/ground_truth.hpp"
+#include "runtime/message_json.hpp"
+#include "runtime/result_file.hpp"
+
+namespace fusecal {
+
+void AddEvaluateCommand(CLI::App& app, int* exit_code) {
+  auto* evaluate = app.add_subcommand("evaluate", "error of a result file against the ground truth");
+  static std::string result_path, truth_path;
+  evaluate->add_option("--result", result_path, "result file (YAML with T_camera_lidar)")->required();
+  evaluate->add_option("--truth", truth_path, "log with GROUND_TRUTH, or a reference result YAML")->required();
+  evaluate->callback([exit_code] {
+    try {
+      const CalibrationResult result = ReadResultFile(result_path);
+      const ExtrinsicError e = CompareExtrinsics(result.T_camera_lidar, ReadReferenceExtrinsic(truth_path));
+      OrderedJson line{{"rot_err_deg", e.rotation_deg},
+                       {"trans_err_m", e.translation_m},
+                       {"trans_err_xyz_m", {e.translation_xyz_m.x(), e.translation_xyz_m.y(),
+                                            e.translation_xyz_m.z()}}};
+      std::cout << line.dump() << "\n";
+      *exit_code = 0;
+    } catch (const std::exception& e) {
+      std::cerr << "fusecal evaluate: " << e.what() << "\n";
+      *exit_code = 1;
+    }
+  });
+}
+
+}  // namespace fusecal

@@ -1,0 +1,37 @@
+// `fusecal export RESULT.yaml --format kitti|ros-static-tf|json|opencv-yaml [--out FILE]`.
+#include <CLI/CLI.hpp>
+#include <fstream>
+#include <iostream>
+
+#include "commands.hpp"
+#include "runtime/extrinsic_formats.hpp"
+
+namespace fusecal {
+
+void AddExportCommand(CLI::App& app, int* exit_code) {
+  auto* cmd = app.add_subcommand("export", "write a result in the format of another stack");
+  static std::string result_path, format, out_path;
+  cmd->add_option("RESULT", result_path, "result file (YAML with T_camera_lidar)")->required();
+  cmd->add_option("--format", format, "kitti, ros-static-tf, json or opencv-yaml")
+      ->required()
+      ->check(CLI::IsMember(ExportFormats()));
+  cmd->add_option("--out", out_path, "output file (default: standard output)");
+  cmd->callback([exit_code] {
+    try {
+      const std::string text = ExportExtrinsic(ReadResultFile(result_path), format);
+      if (out_path.empty()) {
+        std::cout << text;
+      } else {
+        std::ofstream out(out_path);
+        out << text;
+        if (!out) throw std::runtime_error(out_path + ": cannot write");
+      }
+      *exit_code = 0;
+    } catch (const std::exception& e) {
+      std::cerr << "fusecal export: " << e.what() << "\n";
+      *exit_code = 1;
+    }
+  });
+}
+
+}  // namespace fusecal
