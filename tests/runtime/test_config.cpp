@@ -68,3 +68,39 @@ TEST(Config, RequiredKeysAndSyntaxErrors) {
 
 }  // namespace
 }  // namespace fusecal
+
+#include "runtime/camera_file.hpp"
+
+namespace fusecal {
+namespace {
+
+TEST(CameraFile, ParsesBothModelsAndRoundTrips) {
+  const CameraParams p = ParseCameraYaml(
+      "model: pinhole\nwidth: 1242\nheight: 375\nfx: 721.5\nfy: 721.5\ncx: 609.6\ncy: 172.9\n"
+      "dist: [0.1, -0.2, 0, 0, 0.01]\n");
+  EXPECT_EQ(p.width, 1242);
+  EXPECT_EQ(p.dist[4], 0.01);
+  const CameraParams back = ParseCameraYaml(CameraToYaml(p));
+  EXPECT_EQ(back.fx, p.fx);
+  EXPECT_EQ(back.dist, p.dist);
+  EXPECT_EQ(ParseCameraYaml("model: equirectangular\nwidth: 2048\nheight: 1024\n").model, "equirectangular");
+}
+
+TEST(CameraFile, ErrorsNameTheKey) {
+  for (const auto& [text, key] : std::vector<std::pair<std::string, std::string>>{
+           {"model: fisheye\nwidth: 10\nheight: 10\n", "model"},
+           {"model: equirectangular\nwidth: -10\nheight: 10\n", "width"},
+           {"model: equirectangular\nwidth: 10\nheight: 10\nfov: 3\n", "fov"},
+           {"model: pinhole\nwidth: 10\nheight: 10\nfx: 1\nfy: 1\ncx: 1\n", "cy"},
+           {"model: pinhole\nwidth: 10\nheight: 10\nfx: 1\nfy: 1\ncx: 1\ncy: 1\ndist: [1]\n", "dist"}}) {
+    try {
+      ParseCameraYaml(text);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("'" + key), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace fusecal

@@ -12,5 +12,6 @@ void AddDoctorCommand(CLI::App& app, int* exit_code);
 void AddLogCommands(CLI::App& app, int* exit_code);
 void AddEvaluateCommand(CLI::App& app, int* exit_code);
 void AddExportCommand(CLI::App& app, int* exit_code);
+void AddImportCommands(CLI::App& app, int* exit_code);
 
 }  // namespace fusecal

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   fusecal::AddLogCommands(app, &exit_code);
   fusecal::AddEvaluateCommand(app, &exit_code);
   fusecal::AddExportCommand(app, &exit_code);
+  fusecal::AddImportCommands(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
