@@ -1,0 +1,360 @@
+#include "handeye/handeye_solver.hpp"
+
+#include <cmath>
+#include <exception>
+#include <sstream>
+
+#include "handeye/observability.hpp"
+#include "handeye/pair_model.hpp"
+#include "handeye/refinement.hpp"
+#include "handeye/rotation_solver.hpp"
+#include "handeye/screening.hpp"
+#include "handeye/translation_solver.hpp"
+
+namespace fusecal {
+namespace {
+
+using namespace handeye;
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+// The pairs still in use: their input indices and copies.
+struct Working {
+  std::vector<int> index;
+  std::vector<MotionPair> pairs;
+  int size() const { return static_cast<int>(pairs.size()); }
+  void Remove(int k) {
+    index.erase(index.begin() + k);
+    pairs.erase(pairs.begin() + k);
+  }
+};
+
+void SetCovariance(const Matrix6& C, HandEyeResult* r) {
+  r->covariance = 0.5 * (C + C.transpose());
+  for (int k = 0; k < 3; ++k) {
+    r->std_dev_rot_deg(k) = std::sqrt(std::max(r->covariance(k, k), 0.0)) * kRadToDeg;
+    r->std_dev_trans_m(k) = std::sqrt(std::max(r->covariance(k + 3, k + 3), 0.0));
+  }
+}
+
+// Validates settings and the initial guess, screens the pairs. False (result filled as failed) when no
+// estimate can be made.
+bool Prepare(const std::vector<MotionPair>& input, const HandEyeSettings& s, bool scaled, const Isometry3* initial,
+             HandEyeResult* r, Working* w) {
+  r->scaled = scaled;
+  r->status = handeye_status::kFailed;
+  r->observability = handeye_observability::kTooFewMotions;
+  if (initial) r->T_camera_lidar = *initial;
+  SetCovariance(kUnobservableVariance * Matrix6::Identity(), r);
+  const std::string settings_error = s.Validate();
+  if (!settings_error.empty()) {
+    r->message = "invalid settings: " + settings_error;
+    return false;
+  }
+  if (initial && !IsValidTransform(*initial, s.orthonormality_tolerance)) {
+    r->message = "initial guess is not a valid rigid transform";
+    return false;
+  }
+  ScreeningOutcome screen = ScreenPairs(input, s, scaled);
+  r->rejected_pairs = screen.rejected;
+  for (int i : screen.usable) {
+    w->index.push_back(i);
+    w->pairs.push_back(input[i]);
+  }
+  if (w->size() < 2) {
+    std::ostringstream m;
+    m << "too few usable motion pairs: " << w->size() << " of " << input.size() << " (at least 2 needed, "
+      << s.min_pairs << " for a verdict)";
+    r->message = m.str();
+    return false;
+  }
+  return true;
+}
+
+double RotationCostSum(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R) {
+  double sum = 0.0;
+  for (const auto& p : pairs) sum += RotationResidual(p, R).squaredNorm();
+  return sum;
+}
+
+// Starting rotation (paper: linear solution from the rotation axes). The initial guess replaces it when it
+// fits the rotations better. With (nearly) parallel axes the rotation about the axis is taken from the
+// initial guess, or, for scaled motions, from the translations when they determine it.
+Eigen::Matrix3d InitialRotation(const std::vector<MotionPair>& pairs, const HandEyeSettings& s,
+                                const NoiseModel& noise, const Isometry3* initial, bool scaled) {
+  const Eigen::Matrix3d R_axes = RotationFromAxes(pairs);
+  Eigen::Vector3d k_b;
+  const double weakest_deg = WeakestRotationFromAxes(pairs, R_axes, noise, &k_b) * kRadToDeg;
+  if (!(weakest_deg > s.max_rotation_std_deg)) {
+    if (initial && RotationCostSum(pairs, initial->linear()) < RotationCostSum(pairs, R_axes))
+      return initial->linear();
+    return R_axes;
+  }
+  const Eigen::Vector3d k_a = (R_axes * k_b).normalized();
+  const Eigen::Matrix3d base = initial ? AlignAxis(initial->linear(), k_b, k_a) : R_axes;
+  Eigen::Matrix3d R_axis;
+  if (scaled && RotationAboutCommonAxis(pairs, base, k_b, &R_axis)) {
+    const Eigen::Vector3d t = SolveTranslation(pairs, R_axis, false).t;
+    if (AnalyzeScaled(pairs, R_axis, t, noise, s).rotation_std_deg <= s.max_rotation_std_deg) return R_axis;
+  }
+  return base;
+}
+
+// Variance component estimation: the per-axis noise (both sensors alike) that explains the residuals of the
+// pairs without covariances. E|r_rot|^2 = 6 sigma_r^2; E|r_t|^2 = 2 sigma_r^2 |t|^2 + 6 sigma_t^2 (scaled),
+// corrected by n / (n - 1) for the 3 (+3) estimated parameters.
+NoiseModel EstimateNoise(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                         const NoiseModel& prior, bool scaled) {
+  double sum_rot = 0.0, sum_trans = 0.0;
+  int n = 0;
+  for (const auto& p : pairs) {
+    if (p.cov_A && p.cov_B) continue;
+    sum_rot += RotationResidual(p, R).squaredNorm();
+    if (scaled) sum_trans += TranslationResidual(p, R, t).squaredNorm();
+    ++n;
+  }
+  if (n < 2) return prior;
+  NoiseModel out = prior;
+  const double var_rot = std::max(sum_rot / (6.0 * (n - 1)), std::pow(1e-6 * prior.rot_sigma_rad, 2));
+  out.rot_sigma_rad = std::sqrt(var_rot);
+  if (scaled) {
+    const double var_trans = (sum_trans / (n - 1) - 2.0 * var_rot * t.squaredNorm()) / 6.0;
+    out.trans_sigma_m = std::sqrt(std::max(var_trans, std::pow(1e-6 * prior.trans_sigma_m, 2)));
+  }
+  return out;
+}
+
+// Inflates the covariance along unobservable directions ([d_rot ; t] coordinates): the exact null vectors,
+// and the reported direction (rotation about it, d_rot = R^T direction, and t along it).
+Matrix6 Inflate(Matrix6 C, const ObservabilityReport& obs, const Eigen::Matrix3d& R) {
+  std::vector<Vector6> directions = obs.null_directions;
+  Vector6 v = Vector6::Zero();
+  if (obs.verdict == std::string(handeye_observability::kRotationDegenerate)) {
+    v.head<3>() = R.transpose() * obs.direction;
+    directions.push_back(v);
+  }
+  if (obs.verdict != std::string(handeye_observability::kOk)) {
+    v.setZero();
+    v.tail<3>() = obs.direction;
+    directions.push_back(v);
+  }
+  for (const auto& d : directions) C += kUnobservableVariance * d.normalized() * d.normalized().transpose();
+  return C;
+}
+
+// Observability, status, residuals and message common to both solves.
+void Finish(const Working& w, const std::vector<MotionPair>& input, const HandEyeSettings& s,
+            const ObservabilityReport& obs, const RefineOutput& est, const std::vector<double>& scales,
+            HandEyeResult* r) {
+  r->T_camera_lidar = MakeIsometry(est.R, est.t);
+  for (int k = 0; k < w.size(); ++k) {
+    const int i = w.index[k];
+    r->used_pairs.push_back({i, input[i].station_i, input[i].station_j});
+  }
+  double sum_rot = 0.0, sum_trans = 0.0;
+  for (int k = 0; k < w.size(); ++k) {
+    sum_rot += RotationResidual(w.pairs[k], est.R).squaredNorm();
+    sum_trans += TranslationResidual(w.pairs[k], est.R, est.t, scales.empty() ? 1.0 : scales[k]).squaredNorm();
+  }
+  r->residual_rms_rot_deg = std::sqrt(sum_rot / w.size()) * kRadToDeg;
+  r->residual_rms_trans_m = std::sqrt(sum_trans / w.size());
+
+  std::ostringstream m;
+  if (w.size() < s.min_pairs) {
+    r->observability = handeye_observability::kTooFewMotions;
+    r->status = handeye_status::kDegenerate;
+    m << "too few motion pairs (" << w.size() << " < min_pairs " << s.min_pairs << "); ";
+  } else if (obs.verdict != handeye_observability::kOk) {
+    r->observability = obs.verdict;
+    r->unobservable_direction = obs.direction;
+    r->status = handeye_status::kDegenerate;
+  } else if (!est.usable) {
+    r->observability = obs.verdict;
+    r->status = handeye_status::kFailed;
+  } else {
+    r->observability = obs.verdict;
+    r->status = est.converged ? handeye_status::kConverged : handeye_status::kNotConverged;
+  }
+  r->converged = r->status == std::string(handeye_status::kConverged);
+  m << "used " << w.size() << " of " << input.size() << " pairs; observability " << obs.verdict
+    << " (rotation std <= " << obs.rotation_std_deg << " deg, translation std <= " << obs.translation_std_m
+    << " m at nominal noise); residual rms " << r->residual_rms_rot_deg << " deg, " << r->residual_rms_trans_m
+    << " m; solver: " << est.message;
+  r->message = m.str();
+}
+
+HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEyeSettings& s,
+                              const Isometry3* initial) {
+  HandEyeResult r;
+  Working w;
+  if (!Prepare(input, s, true, initial, &r, &w)) return r;
+  const NoiseModel nominal = NominalNoise(s);
+  const Eigen::Vector3d t_prior = initial ? Eigen::Vector3d(initial->translation()) : Eigen::Vector3d::Zero();
+  const bool robust = s.robust_loss != RobustLoss::kNone;
+  RefineOutput est;
+  for (;;) {
+    const Eigen::Matrix3d R0 = InitialRotation(w.pairs, s, nominal, initial, true);
+    const Eigen::Vector3d t0 = SolveTranslation(w.pairs, R0, false, initial ? &t_prior : nullptr).t;
+    est = RefinePose(w.pairs, R0, t0, nominal, robust, s);
+    r.iterations += est.iterations;
+    if (!s.reject_outliers || w.size() < 3) break;
+    std::vector<double> rot_deg, trans_m;
+    for (const auto& p : w.pairs) {
+      rot_deg.push_back(RotationResidual(p, est.R).norm() * kRadToDeg);
+      trans_m.push_back(TranslationResidual(p, est.R, est.t).norm());
+    }
+    std::string why;
+    const int k = FindResidualOutlier(rot_deg, trans_m, s, &why);
+    if (k < 0) break;
+    r.rejected_pairs.push_back(MakeRejected(input, w.index[k], why));
+    w.Remove(k);
+  }
+
+  // Final plain least squares with the noise re-estimated from the residuals (twice: the whitening depends
+  // on the estimate and the noise).
+  const bool given_cov = AllHaveCovariances(w.pairs);
+  NoiseModel noise = nominal;
+  for (int round = 0; round < 2; ++round) {
+    if (!given_cov && s.estimate_noise_from_residuals) noise = EstimateNoise(w.pairs, est.R, est.t, nominal, true);
+    est = RefinePose(w.pairs, est.R, est.t, noise, false, s);
+    r.iterations += est.iterations;
+  }
+  r.noise_rot_deg = noise.rot_sigma_rad * kRadToDeg;
+  r.noise_trans_m = noise.trans_sigma_m;
+
+  const ObservabilityReport obs = AnalyzeScaled(w.pairs, est.R, est.t, nominal, s);
+  // Along unobservable directions the estimate is noise: keep the initial guess there (zero without one).
+  if (obs.verdict == std::string(handeye_observability::kRotationDegenerate)) {
+    if (initial) est.R = AlignAxis(initial->linear(), est.R.transpose() * obs.direction, obs.direction);
+    est.t = SolveTranslation(w.pairs, est.R, false, &t_prior, {obs.direction}).t;
+  } else if (obs.verdict == std::string(handeye_observability::kTranslationPartlyUnobservable)) {
+    est.t += obs.direction * obs.direction.dot(t_prior - est.t);
+  }
+  Matrix6 C = Matrix6::Zero();
+  double cost = 0.0;
+  if (!PoseCovariance(w.pairs, est.R, est.t, noise, &C, &cost)) C = kUnobservableVariance * Matrix6::Identity();
+  const int dof = 6 * w.size() - 6;
+  if (!given_cov && dof > 0) C *= 2.0 * cost / dof;  // sigma^2 = 2 cost / dof
+  SetCovariance(Inflate(C, obs, est.R), &r);
+  Finish(w, input, s, obs, est, {}, &r);
+  return r;
+}
+
+HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const HandEyeSettings& s,
+                                 const Isometry3* initial) {
+  HandEyeResult r;
+  Working w;
+  if (!Prepare(input, s, false, initial, &r, &w)) return r;
+  const NoiseModel nominal = NominalNoise(s);
+  const Eigen::Vector3d t_prior = initial ? Eigen::Vector3d(initial->translation()) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d* prior = initial ? &t_prior : nullptr;
+  const bool robust = s.robust_loss != RobustLoss::kNone;
+  RefineOutput est;
+  LinearTranslation lt;
+  for (;;) {
+    const Eigen::Matrix3d R0 = InitialRotation(w.pairs, s, nominal, initial, false);
+    est = RefineRotation(w.pairs, R0, nominal, robust, s);
+    r.iterations += est.iterations;
+    lt = SolveTranslation(w.pairs, est.R, true, prior);
+    if (!s.reject_outliers || w.size() < 3) break;
+    // With (nearly) parallel axes the rotation about the axis is arbitrary, and so are the translation
+    // residuals: only the rotation residuals can point at an outlier then.
+    Eigen::Vector3d axis_b;
+    const bool rotation_weak = WeakestRotationFromAxes(w.pairs, est.R, nominal, &axis_b) * kRadToDeg >
+                               s.max_rotation_std_deg;
+    std::vector<double> rot_deg, trans_m;
+    for (int k = 0; k < w.size(); ++k) {
+      rot_deg.push_back(RotationResidual(w.pairs[k], est.R).norm() * kRadToDeg);
+      trans_m.push_back(rotation_weak ? 0.0 : lt.residuals[k].norm());
+    }
+    std::string why;
+    int k = FindResidualOutlier(rot_deg, trans_m, s, &why);
+    if (k < 0 && !rotation_weak) {
+      // A negative scale means the camera translation points against the LiDAR's (a flipped direction).
+      double most_negative = 0.0;
+      for (int j = 0; j < w.size(); ++j)
+        if (lt.scales[j] < most_negative) most_negative = lt.scales[k = j];
+      if (k >= 0) why = "negative scale " + std::to_string(lt.scales[k]) + " (camera translation direction flipped)";
+    }
+    if (k < 0) break;
+    r.rejected_pairs.push_back(MakeRejected(input, w.index[k], why));
+    w.Remove(k);
+  }
+
+  const bool given_cov = AllHaveCovariances(w.pairs);
+  NoiseModel noise = nominal;
+  if (!given_cov && s.estimate_noise_from_residuals) noise = EstimateNoise(w.pairs, est.R, est.t, nominal, false);
+  est = RefineRotation(w.pairs, est.R, noise, false, s);
+  r.iterations += est.iterations;
+  lt = SolveTranslation(w.pairs, est.R, true, prior);
+  const ObservabilityReport obs = AnalyzeScaleless(w.pairs, est.R, lt, nominal, s);
+  if (obs.verdict != std::string(handeye_observability::kOk)) {
+    // Along unobservable directions the estimate is noise: keep the initial guess there (zero without one).
+    if (initial && obs.verdict == std::string(handeye_observability::kRotationDegenerate))
+      est.R = AlignAxis(initial->linear(), est.R.transpose() * obs.direction, obs.direction);
+    lt = SolveTranslation(w.pairs, est.R, true, &t_prior, {obs.direction});
+  }
+  est.t = lt.t;
+
+  // Rotation covariance from Ceres; translation from the linear system with the scales marginalised,
+  // sigma_t^2 = residual sum of squares / dof, plus the rotation uncertainty propagated through R t_b.
+  Eigen::Matrix3d C_rr = Eigen::Matrix3d::Zero();
+  double cost = 0.0;
+  if (!RotationCovariance(w.pairs, est.R, noise, &C_rr, &cost))
+    C_rr = kUnobservableVariance * Eigen::Matrix3d::Identity();
+  if (!given_cov && w.size() > 1) C_rr *= 2.0 * cost / (3.0 * w.size() - 3.0);
+  const double var_t = lt.dof > 0 ? lt.residual_sum_squares / lt.dof : 2.0 * std::pow(nominal.trans_sigma_m, 2);
+  noise.trans_sigma_m = std::sqrt(0.5 * var_t);
+  r.noise_rot_deg = noise.rot_sigma_rad * kRadToDeg;
+  r.noise_trans_m = noise.trans_sigma_m;
+  const Eigen::Matrix3d& G = lt.dt_drot;
+  const Eigen::Matrix3d C_tt_linear = var_t * lt.N_pinv;
+  Matrix6 C;
+  C << C_rr, C_rr * G.transpose(), G * C_rr, C_tt_linear + G * C_rr * G.transpose();
+
+  // Scales: s_i = u^T (R Exp(d) t_b - A_i t) / |t_a| + e_i / |t_a|.
+  for (int k = 0; k < w.size(); ++k) {
+    const MotionPair& p = w.pairs[k];
+    const double ta = p.A.translation().norm();
+    r.scales.push_back(lt.scales[k]);
+    if (ta <= 1e-12) {
+      r.scale_std_devs.push_back(0.0);
+      continue;
+    }
+    const Eigen::Vector3d u = p.A.translation() / ta;
+    const Eigen::Matrix3d A = p.A.linear() - Eigen::Matrix3d::Identity();
+    const Eigen::RowVector3d g = -u.transpose() * est.R * Skew(p.B.translation()) - u.transpose() * A * G;
+    const Eigen::RowVector3d a = u.transpose() * A;
+    const double var = (g * C_rr * g.transpose())(0) + (a * C_tt_linear * a.transpose())(0) + var_t;
+    r.scale_std_devs.push_back(std::sqrt(std::max(var, 0.0)) / ta);
+  }
+
+  SetCovariance(Inflate(C, obs, est.R), &r);
+  Finish(w, input, s, obs, est, lt.scales, &r);
+  return r;
+}
+
+template <typename Impl>
+HandEyeResult Guarded(Impl impl, bool scaled) {
+  try {
+    return impl();
+  } catch (const std::exception& e) {
+    HandEyeResult r;
+    r.scaled = scaled;
+    r.message = std::string("internal error: ") + e.what();
+    return r;
+  }
+}
+
+}  // namespace
+
+HandEyeResult SolveScaleless(const std::vector<MotionPair>& pairs, const HandEyeSettings& settings,
+                             const Isometry3* initial) {
+  return Guarded([&] { return SolveScalelessImpl(pairs, settings, initial); }, false);
+}
+
+HandEyeResult SolveScaled(const std::vector<MotionPair>& pairs, const HandEyeSettings& settings,
+                          const Isometry3* initial) {
+  return Guarded([&] { return SolveScaledImpl(pairs, settings, initial); }, true);
+}
+
+}  // namespace fusecal

@@ -1,0 +1,166 @@
+// Public types of the hand-eye solver core: input motion pairs, settings, result.
+//
+// Method: Ishikawa, Oishi, Ikeuchi, "LiDAR and Camera Calibration using Motion Estimated by Sensor Fusion
+// Odometry", IROS 2018 (DESIGN.md section 1, steps 3 and 5). For every motion i between two stations,
+//   A_i X = X B_i,   A_i = T_ci_cj (camera), B_i = T_li_lj (LiDAR), X = T_camera_lidar,
+// which splits into  R_a R = R R_b  (rotation)  and  R_a t + t_a = R t_b + t  (translation).
+// No LCM, no file I/O here.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/se3.hpp"
+
+namespace fusecal {
+
+// One motion seen by both sensors.
+//
+// Covariances are 6x6 over [rotation (rad) ; translation (m)] with the perturbation model
+//   R = R_hat * Exp(d_rot)   (rotation perturbed on the right, i.e. a rotation vector in frame j),
+//   t = t_hat + d_trans      (translation perturbed additively, in frame i).
+// The same model is used for the covariance of the result (frames: LiDAR for rotation, camera for t).
+struct MotionPair {
+  int station_i = -1;
+  int station_j = -1;
+  Isometry3 A = Isometry3::Identity();  // T_ci_cj, camera motion
+  Isometry3 B = Isometry3::Identity();  // T_li_lj, LiDAR motion
+  // false: A.translation() is a direction only (scaleless camera motion, e.g. from an essential matrix).
+  bool camera_scaled = true;
+  std::optional<Matrix6> cov_A;
+  std::optional<Matrix6> cov_B;
+};
+
+// Identifies an input pair: its position in the input vector and its stations.
+struct PairRef {
+  int index = -1;
+  int station_i = -1;
+  int station_j = -1;
+};
+
+struct RejectedPair {
+  int index = -1;
+  int station_i = -1;
+  int station_j = -1;
+  std::string reason;
+};
+
+enum class RobustLoss { kNone, kHuber, kCauchy };
+
+struct HandEyeSettings {
+  // --- Screening of single pairs (before any solve) ---
+  // The rotation angle is invariant under conjugation (R_a = R R_b R^T), so |angle(A) - angle(B)| must be
+  // small; pairs beyond this are rejected.
+  double max_angle_difference_deg = 1.0;
+  // Pairs whose camera and LiDAR angles are both below this carry no usable rotation axis (and (R_a - I)
+  // vanishes, so they do not constrain t either): rejected as "no rotation".
+  double min_rotation_deg = 1.0;
+  // Rotation blocks must satisfy |R^T R - I|_F < tol and det R > 0.
+  double orthonormality_tolerance = 1e-6;
+  // Fewer usable pairs than this: observability "too_few_motions" (an estimate is still returned from two
+  // pairs on; with fewer than 2 nothing can be estimated). Must be >= 2.
+  int min_pairs = 3;
+
+  // --- Robust estimation ---
+  // After each initial solve, the pair with the largest residual is rejected when its rotation residual
+  // exceeds max(outlier_factor * median, outlier_min_rotation_deg) or its translation residual exceeds
+  // max(outlier_factor * median, outlier_min_translation_m); repeated until no pair exceeds.
+  bool reject_outliers = true;
+  double outlier_factor = 4.0;
+  double outlier_min_rotation_deg = 0.01;
+  double outlier_min_translation_m = 0.001;
+  // Loss of the first nonlinear solve, on the whitened residual of a pair (units: standard deviations).
+  // The final solve (after outlier rejection) is plain least squares, so that the covariance is the usual one.
+  RobustLoss robust_loss = RobustLoss::kHuber;
+  double robust_loss_scale = 3.0;
+
+  // --- Noise model ---
+  // Used for pairs without covariances (both sensors, per axis), for whitening, and for the observability
+  // verdict. When not every pair carries covariances, the two sigmas are re-estimated from the residuals
+  // (variance component estimation) and the final covariance is scaled by sigma^2 = 2 cost / dof.
+  double nominal_rotation_sigma_deg = 0.1;
+  double nominal_translation_sigma_m = 0.01;
+  bool estimate_noise_from_residuals = true;
+
+  // --- Observability verdict ---
+  // The verdict uses the information matrix of the used pairs under the nominal noise model (or the given
+  // covariances), i.e. the singular values of the whitened Jacobian: a direction whose standard deviation
+  // would exceed these thresholds (or whose singular value is zero) is reported as unobservable.
+  double max_rotation_std_deg = 1.0;
+  double max_translation_std_m = 0.1;
+
+  // --- Nonlinear solver (Ceres) ---
+  int max_iterations = 100;
+  double function_tolerance = 1e-12;
+  double parameter_tolerance = 1e-12;
+  double gradient_tolerance = 1e-12;
+
+  // Empty string when valid, otherwise a description of the first problem found.
+  std::string Validate() const;
+  bool IsValid(std::string* error = nullptr) const;
+};
+
+// Values of HandEyeResult::status (the subset of extrinsic_t.status the solver produces).
+namespace handeye_status {
+inline constexpr const char* kConverged = "converged";        // observable, solver converged
+inline constexpr const char* kNotConverged = "not_converged";  // observable, iteration limit reached
+inline constexpr const char* kDegenerate = "degenerate";       // best estimate, but see observability
+inline constexpr const char* kFailed = "failed";               // no estimate (bad settings, < 2 pairs)
+}  // namespace handeye_status
+
+// Values of HandEyeResult::observability (as in extrinsic_t.observability).
+namespace handeye_observability {
+inline constexpr const char* kOk = "ok";
+// Rotation about one axis is not determined. Direction: that axis in the camera frame. With scaled motions
+// this happens when all motions rotate about one common line (e.g. panning on a tripod); translation along
+// the axis is then unobservable too. With scaleless motions, whenever all rotation axes are parallel.
+inline constexpr const char* kRotationDegenerate = "rotation_degenerate";
+// Rotation is determined, t is not along `unobservable_direction` (camera frame). Scaled motions about one
+// axis only (planar motion): t along the axis. Scaleless: e.g. few planar motions.
+inline constexpr const char* kTranslationPartlyUnobservable = "translation_partly_unobservable";
+// Fewer than settings.min_pairs usable pairs.
+inline constexpr const char* kTooFewMotions = "too_few_motions";
+}  // namespace handeye_observability
+
+struct HandEyeResult {
+  Isometry3 T_camera_lidar = Isometry3::Identity();
+  // 6x6 over [rotation (rad) ; translation (m)], perturbation R = R_hat Exp(d_rot), t = t_hat + d_trans.
+  // Along unobservable directions a variance of kUnobservableVariance is added.
+  Matrix6 covariance = Matrix6::Zero();
+  Eigen::Vector3d std_dev_rot_deg = Eigen::Vector3d::Zero();  // sqrt of the diagonal, degrees
+  Eigen::Vector3d std_dev_trans_m = Eigen::Vector3d::Zero();  // sqrt of the diagonal, metres
+
+  bool scaled = false;     // SolveScaled (true) or SolveScaleless (false)
+  bool converged = false;  // true only when status == "converged" (never for a degenerate set)
+  std::string status = handeye_status::kFailed;
+  std::string observability = handeye_observability::kTooFewMotions;
+  // Camera frame, unit; zero when ok. Along it the estimate keeps the initial guess's value (t along it and,
+  // for rotation_degenerate, the rotation about it), or zero translation / an arbitrary angle without one.
+  Eigen::Vector3d unobservable_direction = Eigen::Vector3d::Zero();
+
+  std::vector<PairRef> used_pairs;
+  std::vector<RejectedPair> rejected_pairs;
+  // Scaleless: one scale per used pair (same order), s_i in R_a t + s_i t_a = R t_b + t, and its standard
+  // deviation. Empty for the scaled solve.
+  std::vector<double> scales;
+  std::vector<double> scale_std_devs;
+
+  // RMS over used pairs of |Log(R_b^T R^T R_a R)| (degrees) and of |R_a t + s_i t_a - R t_b - t| (metres).
+  double residual_rms_rot_deg = 0.0;
+  double residual_rms_trans_m = 0.0;
+  // Noise per sensor motion and axis that the final solve used (estimated from residuals, or nominal).
+  double noise_rot_deg = 0.0;
+  double noise_trans_m = 0.0;
+
+  int iterations = 0;  // nonlinear iterations, all solves together
+  std::string message;
+
+  bool IsRejected(int station_i, int station_j) const;
+  bool IsUsed(int station_i, int station_j) const;
+};
+
+// Variance added along unobservable directions of the result covariance (rad^2 or m^2).
+inline constexpr double kUnobservableVariance = 1e6;
+
+}  // namespace fusecal

@@ -1,0 +1,134 @@
+#include "handeye/observability.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+namespace fusecal::handeye {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNullTolerance = 1e-12;  // eigenvalue of J^T J relative to the largest
+
+// Pseudo-inverse of a symmetric information matrix; null eigenvectors are returned separately.
+Eigen::MatrixXd PseudoInverse(const Eigen::MatrixXd& info, std::vector<Eigen::VectorXd>* nulls) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (info + info.transpose()));
+  const double max_ev = eig.eigenvalues().cwiseAbs().maxCoeff();
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(info.rows(), info.cols());
+  for (int k = 0; k < info.rows(); ++k) {
+    const Eigen::VectorXd v = eig.eigenvectors().col(k);
+    if (max_ev > 0.0 && eig.eigenvalues()(k) > kNullTolerance * max_ev)
+      C += v * v.transpose() / eig.eigenvalues()(k);
+    else
+      nulls->push_back(v);
+  }
+  return C;
+}
+
+struct BlockStd {
+  double max_std = 0.0;
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+};
+
+// Largest standard deviation of a 3-parameter block: infinite when a null vector touches the block.
+BlockStd AnalyzeBlock(const Eigen::Matrix3d& cov, const std::vector<Eigen::Vector3d>& null_parts) {
+  BlockStd out;
+  double best = 1e-6;
+  for (const auto& v : null_parts) {
+    if (v.norm() > best) {
+      best = v.norm();
+      out.max_std = kInf;
+      out.direction = v.normalized();
+    }
+  }
+  if (out.max_std == kInf) return out;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(0.5 * (cov + cov.transpose()));
+  out.max_std = std::sqrt(std::max(eig.eigenvalues()(2), 0.0));
+  out.direction = eig.eigenvectors().col(2);
+  return out;
+}
+
+Eigen::Matrix3d RotationInformation(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
+                                    const NoiseModel& noise) {
+  Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+  for (const auto& p : pairs) {
+    const Eigen::Matrix3d C = ResidualCovariance(p, R, Eigen::Vector3d::Zero(), noise).topLeftCorner<3, 3>();
+    const Eigen::Matrix3d J = Eigen::Matrix3d::Identity() - p.B.linear().transpose();
+    info += J.transpose() * C.inverse() * J;
+  }
+  return info;
+}
+
+void Verdict(const BlockStd& rot, const BlockStd& trans, const Eigen::Matrix3d& R, const HandEyeSettings& settings,
+             ObservabilityReport* report) {
+  report->rotation_std_deg = rot.max_std * 180.0 / M_PI;
+  report->translation_std_m = trans.max_std;
+  if (report->rotation_std_deg > settings.max_rotation_std_deg) {
+    report->verdict = handeye_observability::kRotationDegenerate;
+    report->direction = (R * rot.direction).normalized();  // LiDAR-frame axis -> camera frame
+  } else if (report->translation_std_m > settings.max_translation_std_m) {
+    report->verdict = handeye_observability::kTranslationPartlyUnobservable;
+    report->direction = trans.direction.normalized();
+  }
+}
+
+}  // namespace
+
+ObservabilityReport AnalyzeScaled(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
+                                  const Eigen::Vector3d& t, const NoiseModel& noise,
+                                  const HandEyeSettings& settings) {
+  Eigen::MatrixXd info = Eigen::MatrixXd::Zero(6, 6);
+  for (const auto& p : pairs) {
+    const Matrix6 J = JacobianWrtExtrinsic(p, R);
+    info += J.transpose() * ResidualCovariance(p, R, t, noise).inverse() * J;
+  }
+  std::vector<Eigen::VectorXd> nulls;
+  const Eigen::MatrixXd C = PseudoInverse(info, &nulls);
+  ObservabilityReport report;
+  std::vector<Eigen::Vector3d> rot_nulls, trans_nulls;
+  for (const auto& v : nulls) {
+    report.null_directions.push_back(v);
+    rot_nulls.push_back(v.head<3>());
+    trans_nulls.push_back(v.tail<3>());
+  }
+  Verdict(AnalyzeBlock(C.topLeftCorner<3, 3>(), rot_nulls), AnalyzeBlock(C.bottomRightCorner<3, 3>(), trans_nulls),
+          R, settings, &report);
+  return report;
+}
+
+ObservabilityReport AnalyzeScaleless(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
+                                     const LinearTranslation& lt, const NoiseModel& noise,
+                                     const HandEyeSettings& settings) {
+  std::vector<Eigen::VectorXd> nulls;
+  const Eigen::Matrix3d C_rr = PseudoInverse(RotationInformation(pairs, R, noise), &nulls);
+  const double var_t = 2.0 * noise.trans_sigma_m * noise.trans_sigma_m;
+  const Eigen::Matrix3d C_tt = var_t * lt.N_pinv + lt.dt_drot * C_rr * lt.dt_drot.transpose();
+  ObservabilityReport report;
+  std::vector<Eigen::Vector3d> rot_nulls, trans_nulls;
+  for (const auto& v : nulls) {
+    Vector6 n;
+    n << v, lt.dt_drot * v;
+    report.null_directions.push_back(n.normalized());
+    rot_nulls.push_back(v);
+    trans_nulls.push_back(lt.dt_drot * v);
+  }
+  for (const auto& v : lt.null_directions) {
+    Vector6 n;
+    n << Eigen::Vector3d::Zero(), v;
+    report.null_directions.push_back(n);
+    trans_nulls.push_back(v);
+  }
+  Verdict(AnalyzeBlock(C_rr, rot_nulls), AnalyzeBlock(C_tt, trans_nulls), R, settings, &report);
+  return report;
+}
+
+double WeakestRotationFromAxes(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
+                               const NoiseModel& noise, Eigen::Vector3d* axis_b) {
+  std::vector<Eigen::VectorXd> nulls;
+  const Eigen::Matrix3d C = PseudoInverse(RotationInformation(pairs, R, noise), &nulls);
+  std::vector<Eigen::Vector3d> parts(nulls.begin(), nulls.end());
+  const BlockStd b = AnalyzeBlock(C, parts);
+  *axis_b = b.direction;
+  return b.max_std;
+}
+
+}  // namespace fusecal::handeye

@@ -1,0 +1,95 @@
+#include "handeye/pair_model.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+namespace fusecal::handeye {
+
+NoiseModel NominalNoise(const HandEyeSettings& settings) {
+  return {settings.nominal_rotation_sigma_deg * M_PI / 180.0, settings.nominal_translation_sigma_m};
+}
+
+namespace {
+Matrix6 IsotropicCovariance(const NoiseModel& noise) {
+  Matrix6 C = Matrix6::Zero();
+  C.topLeftCorner<3, 3>().diagonal().setConstant(noise.rot_sigma_rad * noise.rot_sigma_rad);
+  C.bottomRightCorner<3, 3>().diagonal().setConstant(noise.trans_sigma_m * noise.trans_sigma_m);
+  return C;
+}
+}  // namespace
+
+Matrix6 CameraCovariance(const MotionPair& pair, const NoiseModel& noise) {
+  return pair.cov_A ? *pair.cov_A : IsotropicCovariance(noise);
+}
+
+Matrix6 LidarCovariance(const MotionPair& pair, const NoiseModel& noise) {
+  return pair.cov_B ? *pair.cov_B : IsotropicCovariance(noise);
+}
+
+bool AllHaveCovariances(const std::vector<MotionPair>& pairs) {
+  for (const auto& p : pairs)
+    if (!p.cov_A || !p.cov_B) return false;
+  return !pairs.empty();
+}
+
+Eigen::Vector3d RotationResidual(const MotionPair& pair, const Eigen::Matrix3d& R) {
+  const Eigen::Matrix3d Ra = pair.A.linear();
+  const Eigen::Matrix3d Rb = pair.B.linear();
+  return LogSO3(Rb.transpose() * R.transpose() * Ra * R);
+}
+
+Eigen::Vector3d TranslationResidual(const MotionPair& pair, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                                    double scale) {
+  const Eigen::Matrix3d Ra = pair.A.linear();
+  return (Ra - Eigen::Matrix3d::Identity()) * t + scale * pair.A.translation() - R * pair.B.translation();
+}
+
+Matrix6 JacobianWrtA(const MotionPair& pair, const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
+  Matrix6 J = Matrix6::Zero();
+  J.topLeftCorner<3, 3>() = R.transpose();
+  J.bottomLeftCorner<3, 3>() = -pair.A.linear() * Skew(t);
+  J.bottomRightCorner<3, 3>().setIdentity();
+  return J;
+}
+
+Matrix6 JacobianWrtB(const MotionPair& pair, const Eigen::Matrix3d& R) {
+  Matrix6 J = Matrix6::Zero();
+  J.topLeftCorner<3, 3>() = -Eigen::Matrix3d::Identity();
+  J.bottomRightCorner<3, 3>() = -R;
+  return J;
+}
+
+Matrix6 ResidualCovariance(const MotionPair& pair, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                           const NoiseModel& noise) {
+  const Matrix6 Ja = JacobianWrtA(pair, R, t);
+  const Matrix6 Jb = JacobianWrtB(pair, R);
+  const Matrix6 C = Ja * CameraCovariance(pair, noise) * Ja.transpose() +
+                    Jb * LidarCovariance(pair, noise) * Jb.transpose();
+  return 0.5 * (C + C.transpose());
+}
+
+Matrix6 JacobianWrtExtrinsic(const MotionPair& pair, const Eigen::Matrix3d& R) {
+  Matrix6 J = Matrix6::Zero();
+  J.topLeftCorner<3, 3>() = Eigen::Matrix3d::Identity() - pair.B.linear().transpose();
+  J.bottomLeftCorner<3, 3>() = R * Skew(pair.B.translation());
+  J.bottomRightCorner<3, 3>() = pair.A.linear() - Eigen::Matrix3d::Identity();
+  return J;
+}
+
+Eigen::MatrixXd WhiteningMatrix(const Eigen::MatrixXd& C) {
+  const Eigen::Index n = C.rows();
+  Eigen::MatrixXd S = 0.5 * (C + C.transpose());
+  // Regularise: floor eigenvalues at a tiny fraction of the largest so that L exists.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S);
+  const double max_ev = std::max(eig.eigenvalues().maxCoeff(), 1e-300);
+  if (eig.eigenvalues().minCoeff() < 1e-12 * max_ev) {
+    Eigen::VectorXd ev = eig.eigenvalues().cwiseMax(1e-12 * max_ev);
+    S = eig.eigenvectors() * ev.asDiagonal() * eig.eigenvectors().transpose();
+  }
+  const Eigen::LLT<Eigen::MatrixXd> llt(S);
+  const Eigen::MatrixXd L = llt.matrixL();
+  return L.triangularView<Eigen::Lower>().solve(Eigen::MatrixXd::Identity(n, n));
+}
+
+}  // namespace fusecal::handeye
