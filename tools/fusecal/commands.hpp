@@ -13,5 +13,7 @@ void AddLogCommands(CLI::App& app, int* exit_code);
 void AddEvaluateCommand(CLI::App& app, int* exit_code);
 void AddExportCommand(CLI::App& app, int* exit_code);
 void AddImportCommands(CLI::App& app, int* exit_code);
+void AddSimulateCommand(CLI::App& app, int* exit_code);
+void AddHandEyeCommand(CLI::App& app, int* exit_code);
 
 }  // namespace fusecal

@@ -14,6 +14,8 @@ int main(int argc, char** argv) {
   fusecal::AddEvaluateCommand(app, &exit_code);
   fusecal::AddExportCommand(app, &exit_code);
   fusecal::AddImportCommands(app, &exit_code);
+  fusecal::AddSimulateCommand(app, &exit_code);
+  fusecal::AddHandEyeCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,62 @@
+// Helpers shared by the simulator tests.
+#pragma once
+
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "common/camera_model.hpp"
+#include "simulator/lidar.hpp"
+#include "simulator/scenario.hpp"
+
+namespace fusecal::sim::test {
+
+inline std::string ScenarioPath(const std::string& name) {
+  return std::string(FUSECAL_SOURCE_DIR) + "/configs/scenarios/" + name;
+}
+
+inline double Pearson(const std::vector<double>& a, const std::vector<double>& b) {
+  const double n = static_cast<double>(a.size());
+  double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    sa += a[i];
+    sb += b[i];
+    saa += a[i] * a[i];
+    sbb += b[i] * b[i];
+    sab += a[i] * b[i];
+  }
+  const double cov = sab / n - (sa / n) * (sb / n);
+  const double va = saa / n - (sa / n) * (sa / n), vb = sbb / n - (sb / n) * (sb / n);
+  return cov / std::sqrt(va * vb);
+}
+
+// Bilinear grey value of an 8-bit single-channel image at a pixel (OpenCV centres), false outside.
+inline bool SampleBilinear(const cv::Mat& image, const Eigen::Vector2d& px, double* value) {
+  const int x0 = static_cast<int>(std::floor(px.x())), y0 = static_cast<int>(std::floor(px.y()));
+  if (x0 < 0 || y0 < 0 || x0 + 1 >= image.cols || y0 + 1 >= image.rows) return false;
+  const double ax = px.x() - x0, ay = px.y() - y0;
+  auto at = [&](int y, int x) { return static_cast<double>(image.at<uint8_t>(y, x)); };
+  *value = (1 - ay) * ((1 - ax) * at(y0, x0) + ax * at(y0, x0 + 1)) +
+           ay * ((1 - ax) * at(y0 + 1, x0) + ax * at(y0 + 1, x0 + 1));
+  return true;
+}
+
+// Pearson correlation of LiDAR intensity with the image grey value at the projection of each point
+// through T_camera_lidar.
+inline double IntensityCorrelation(const SimulatedScan& scan, const cv::Mat& image, const CameraModel& camera,
+                                   const Isometry3& T_camera_lidar, size_t* used = nullptr) {
+  std::vector<double> lidar, pixel;
+  for (const auto& p : scan.points) {
+    const Eigen::Vector3d pc = T_camera_lidar * Eigen::Vector3d(p.x, p.y, p.z);
+    Eigen::Vector2d px;
+    double v;
+    if (!camera.Project(pc, &px) || !SampleBilinear(image, px, &v)) continue;
+    lidar.push_back(p.intensity);
+    pixel.push_back(v);
+  }
+  if (used) *used = lidar.size();
+  return Pearson(lidar, pixel);
+}
+
+}  // namespace fusecal::sim::test

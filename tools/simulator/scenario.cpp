@@ -1,0 +1,212 @@
+#include "simulator/scenario.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include "runtime/config_reader.hpp"
+
+#ifndef FUSECAL_SCENARIO_DIR
+#define FUSECAL_SCENARIO_DIR "configs/scenarios"
+#endif
+
+namespace fusecal::sim {
+
+std::vector<double> LidarParams::ElevationsRad() const {
+  std::vector<double> out;
+  if (!elevations_deg.empty()) {
+    for (double e : elevations_deg) out.push_back(e * M_PI / 180.0);
+    return out;
+  }
+  for (int i = 0; i < beams; ++i) {
+    const double f = beams > 1 ? static_cast<double>(i) / (beams - 1) : 0.5;
+    out.push_back((elevation_max_deg + f * (elevation_min_deg - elevation_max_deg)) * M_PI / 180.0);
+  }
+  return out;
+}
+
+int LidarParams::Columns() const {
+  return std::max(1, static_cast<int>(std::lround(360.0 / azimuth_resolution_deg)));
+}
+
+std::string DefaultScenarioDir() { return FUSECAL_SCENARIO_DIR; }
+
+namespace {
+
+using Vec = std::vector<double>;
+
+Check<Vec> SizeIs(size_t n) {
+  return [n](const Vec& v) {
+    if (v.size() != n) return "must be a list of " + std::to_string(n) + " numbers";
+    for (double x : v)
+      if (!std::isfinite(x)) return std::string("must hold finite numbers");
+    return std::string();
+  };
+}
+
+// [min, max] with 0 <= min <= max (< hi).
+Check<Vec> RangePair(double hi) {
+  return [hi](const Vec& v) {
+    std::string e = SizeIs(2)(v);
+    if (!e.empty()) return e;
+    if (v[0] < 0 || v[1] < v[0] || v[1] > hi)
+      return "must be [min, max] with 0 <= min <= max <= " + std::to_string(hi);
+    return std::string();
+  };
+}
+
+Eigen::Vector3d ToVector3(const Vec& v) { return {v[0], v[1], v[2]}; }
+
+void ReadCamera(ConfigReader r, CameraSettings* cam) {
+  CameraParams& p = cam->params;
+  r.Require("model", &p.model, OneOf({"pinhole", "equirectangular"}));
+  r.Require("width", &p.width, Positive<int>());
+  r.Require("height", &p.height, Positive<int>());
+  const bool pinhole = p.model == "pinhole";
+  r.Get("fx", &p.fx, Positive<double>(), pinhole);
+  r.Get("fy", &p.fy, Positive<double>(), pinhole);
+  r.Get("cx", &p.cx, Check<double>(), pinhole);
+  r.Get("cy", &p.cy, Check<double>(), pinhole);
+  Vec dist(p.dist.begin(), p.dist.end());
+  r.Get("dist", &dist, SizeIs(5));
+  std::copy(dist.begin(), dist.end(), p.dist.begin());
+  r.Get("rate_hz", &cam->rate_hz, Positive<double>());
+  r.Get("phase_s", &cam->phase_s, NonNegative<double>());
+  r.Get("supersample", &cam->supersample, InRange(1, 8));
+  r.Get("moving_supersample", &cam->moving_supersample, InRange(1, 8));
+  r.Get("moving_scale", &cam->moving_scale, InRange(0.1, 1.0));
+  r.Get("color", &cam->color);
+  const std::string problem = p.Validate();  // "field: what"
+  if (!problem.empty()) {
+    const auto colon = problem.find(':');
+    r.Fail(problem.substr(0, colon), problem.substr(colon + 2));
+  }
+  r.Finish();
+}
+
+void ReadLidar(ConfigReader r, LidarParams* l) {
+  r.Require("model", &l->model, OneOf({"multibeam", "panoramic"}));
+  if (l->model == "panoramic") {  // model-dependent defaults: a terrestrial scanner
+    l->beams = 600;
+    l->elevation_max_deg = 90.0;
+    l->elevation_min_deg = -60.0;
+    l->azimuth_resolution_deg = 0.25;
+    l->min_range_m = 0.5;
+    l->max_range_m = 150.0;
+    l->beam_divergence_mrad = 0.5;
+  }
+  r.Require("beams", &l->beams, InRange(1, 4096));
+  Vec elevation{l->elevation_max_deg, l->elevation_min_deg};
+  r.Get("elevation_deg", &elevation, Check<Vec>([](const Vec& v) {
+          std::string e = SizeIs(2)(v);
+          if (e.empty() && !(v[0] >= v[1] && v[0] <= 90.0 && v[1] >= -90.0))
+            e = "must be [max, min] with -90 <= min <= max <= 90";
+          return e;
+        }));
+  l->elevation_max_deg = elevation[0];
+  l->elevation_min_deg = elevation[1];
+  const int beams = l->beams;
+  r.Get("elevations_deg", &l->elevations_deg, Check<Vec>([beams](const Vec& v) {
+          if (static_cast<int>(v.size()) != beams) return std::string("must list one elevation per beam");
+          for (size_t i = 0; i < v.size(); ++i) {
+            if (!(std::abs(v[i]) <= 90.0)) return std::string("must be within [-90, 90]");
+            if (i > 0 && !(v[i] < v[i - 1])) return std::string("must be strictly decreasing (top first)");
+          }
+          return std::string();
+        }));
+  r.Get("azimuth_resolution_deg", &l->azimuth_resolution_deg, InRange(0.01, 10.0));
+  r.Get("min_range_m", &l->min_range_m, NonNegative<double>());
+  r.Get("max_range_m", &l->max_range_m, Positive<double>());
+  if (l->max_range_m <= l->min_range_m) r.Fail("max_range_m", "must exceed min_range_m");
+  r.Get("rate_hz", &l->rate_hz, Positive<double>());
+  r.Get("phase_s", &l->phase_s, NonNegative<double>());
+  r.Get("beam_divergence_mrad", &l->beam_divergence_mrad, NonNegative<double>());
+  r.Get("motion_distortion", &l->motion_distortion);
+  r.Finish();
+}
+
+void ReadExtrinsic(ConfigReader r, Isometry3* T) {
+  Vec xyz, rpy;
+  r.Require("xyz_m", &xyz, SizeIs(3));
+  r.Require("rpy_deg", &rpy, SizeIs(3));
+  r.Finish();
+  const double d2r = M_PI / 180.0;
+  *T = MakeIsometry(RotationFromRpy(rpy[0] * d2r, rpy[1] * d2r, rpy[2] * d2r), ToVector3(xyz));
+}
+
+void ReadMotions(ConfigReader r, MotionParams* m) {
+  r.Require("horizontal", &m->horizontal, InRange(0, 1000));
+  r.Require("vertical", &m->vertical, InRange(0, 1000));
+  Vec rot{m->rotation_min_deg, m->rotation_max_deg};
+  r.Require("rotation_deg", &rot, RangePair(170.0));
+  m->rotation_min_deg = rot[0];
+  m->rotation_max_deg = rot[1];
+  Vec tilt{m->tilt_min_deg, m->tilt_max_deg};
+  r.Get("tilt_deg", &tilt, RangePair(45.0));
+  m->tilt_min_deg = tilt[0];
+  m->tilt_max_deg = tilt[1];
+  r.Get("still_s", &m->still_s, Positive<double>());
+  Vec move{m->move_min_s, m->move_max_s};
+  r.Get("move_s", &move, RangePair(600.0));
+  if (move[0] <= 0) r.Fail("move_s", "must be positive");
+  m->move_min_s = move[0];
+  m->move_max_s = move[1];
+  r.Get("translation_m", &m->translation_m, NonNegative<double>());
+  r.Get("max_drift_m", &m->max_drift_m, NonNegative<double>());
+  Vec yaw_pivot(m->yaw_pivot_m.data(), m->yaw_pivot_m.data() + 3);
+  r.Get("yaw_pivot_m", &yaw_pivot, SizeIs(3));
+  m->yaw_pivot_m = ToVector3(yaw_pivot);
+  Vec tilt_pivot(m->tilt_pivot_m.data(), m->tilt_pivot_m.data() + 3);
+  r.Get("tilt_pivot_m", &tilt_pivot, SizeIs(3));
+  m->tilt_pivot_m = ToVector3(tilt_pivot);
+  r.Get("tilt_axis", &m->tilt_axis, OneOf({"pitch", "roll", "alternate"}));
+  r.Get("order", &m->order, OneOf({"alternate", "grouped"}));
+  r.Finish();
+}
+
+void ReadNoise(ConfigReader r, NoiseParams* n, LidarParams* l) {
+  r.Require("image_sigma", &n->image_sigma, InRange(0.0, 100.0));
+  r.Require("lidar_range_sigma_m", &l->range_sigma_m, InRange(0.0, 10.0));
+  r.Get("exposure_sigma", &n->exposure_sigma, InRange(0.0, 1.0));
+  r.Get("lidar_dropout", &l->dropout, InRange(0.0, 1.0));
+  r.Get("lidar_intensity_sigma", &l->intensity_sigma, InRange(0.0, 1.0));
+  r.Finish();
+}
+
+void ReadRig(ConfigReader r, Scenario* s) {
+  Vec pos(s->rig_position_m.data(), s->rig_position_m.data() + 3);
+  r.Get("position_m", &pos, SizeIs(3));
+  s->rig_position_m = ToVector3(pos);
+  r.Get("yaw_deg", &s->rig_yaw_deg, InRange(-360.0, 360.0));
+  r.Finish();
+}
+
+Scenario Read(ConfigReader r, const std::string& name) {
+  Scenario s;
+  s.name = name;
+  r.Require("seed", &s.seed);
+  r.Require("scene", &s.scene, OneOf({"indoor", "outdoor"}));
+  if (s.scene == "outdoor") s.rig_position_m = Eigen::Vector3d(0.0, 0.0, 1.8);
+  r.Get("start_utime", &s.start_utime, NonNegative<int64_t>());
+  for (const char* section : {"camera", "lidar", "extrinsic", "motions", "noise"})
+    if (!r.Has(section)) r.Fail(section, "is required");
+  ReadCamera(r.Child("camera"), &s.camera);
+  ReadLidar(r.Child("lidar"), &s.lidar);
+  ReadExtrinsic(r.Child("extrinsic"), &s.T_camera_lidar);
+  ReadRig(r.Child("rig"), &s);
+  ReadMotions(r.Child("motions"), &s.motions);
+  ReadNoise(r.Child("noise"), &s.noise, &s.lidar);
+  r.Finish();
+  return s;
+}
+
+}  // namespace
+
+Scenario LoadScenario(const std::string& path) {
+  return Read(ConfigReader::FromFile(path), std::filesystem::path(path).stem().string());
+}
+
+Scenario ParseScenario(const std::string& yaml_text) {
+  return Read(ConfigReader::FromString(yaml_text), "string");
+}
+
+}  // namespace fusecal::sim
