@@ -63,6 +63,10 @@ void ConfigReader::Finish() const {
   throw ConfigError(msg.str());
 }
 
+void ConfigReader::FailSection(const std::string& what) const {
+  throw ConfigError(source_ + ": " + (prefix_.empty() ? std::string("") : "'" + prefix_ + "': ") + what);
+}
+
 void ConfigReader::Fail(const std::string& key, const std::string& what) const {
   throw ConfigError(source_ + ": '" + PathOf(key) + "' " + what);
 }

@@ -72,6 +72,8 @@ class ConfigReader {
 
   std::string PathOf(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
   [[noreturn]] void Fail(const std::string& key, const std::string& what) const;
+  // For checks on the section as a whole (e.g. a core's Validate() message, which names the field).
+  [[noreturn]] void FailSection(const std::string& what) const;
 
  private:
   YAML::Node node_;

@@ -27,6 +27,11 @@ std::string HostName() {
 
 }  // namespace
 
+ConfigReader StageSection(const std::string& config_path, const std::string& name) {
+  ConfigReader root = ConfigReader::FromFile(config_path);
+  return root.Child(name);
+}
+
 void PublishStatus(Bus& bus, const std::string& name, const StageStatus& status,
                    const std::string& last_error) {
   status_t msg{};

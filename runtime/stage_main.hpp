@@ -10,6 +10,7 @@
 
 #include "runtime/bus.hpp"
 #include "runtime/channels.hpp"
+#include "runtime/config_reader.hpp"
 
 namespace fusecal {
 
@@ -39,6 +40,10 @@ struct StageDefinition {
 
 // Channel of the heartbeat.
 inline constexpr const char* kStatusChannel = channels::kStatus;
+
+// The section `name` of the pipeline config file (an empty section when absent). Only that section is
+// checked here; `fusecal run` and `fusecal calibrate` check the whole file.
+ConfigReader StageSection(const std::string& config_path, const std::string& name);
 
 // Runs a stage until SIGINT/SIGTERM. Returns the process exit status (0 on a clean stop, 2 on bad
 // flags or config, 1 when the bus cannot start).

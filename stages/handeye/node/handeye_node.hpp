@@ -1,0 +1,67 @@
+// fusecal-handeye: pairs CAMERA_MOTION and LIDAR_MOTION by station pair, solves the scaleless initial
+// extrinsic (paper III-A-2), then alternates with fusion odometry (III-B-2, DESIGN.md section 3):
+//   publish EXTRINSIC version k  ->  fusion odometry answers FUSED_MOTIONS for version k
+//   ->  solve the scaled extrinsic  ->  publish version k+1 ... until the change is below tolerance.
+// New motions resume the alternation from the current estimate (online refinement). An unanswered
+// version is republished after `retry_s` (idempotent: fusion odometry answers repeats from cache).
+#pragma once
+
+#include <map>
+#include <optional>
+
+#include "fusecal/extrinsic_t.hpp"
+#include "fusecal/motion_set_t.hpp"
+#include "fusecal/motion_t.hpp"
+#include "handeye/handeye_solver.hpp"
+#include "runtime/config_reader.hpp"
+#include "runtime/stage_main.hpp"
+
+namespace fusecal {
+
+struct HandEyeNodeSettings {
+  double tolerance_rotation_deg = 1e-3;  // converged when one iteration changes less than both
+  double tolerance_translation_m = 1e-4;
+  int max_iterations = 15;               // scaled iterations per round
+  double retry_s = 3.0;                  // republish an unanswered version after this (0: never)
+  bool scaled_refinement = true;         // false: stop at the scaleless estimate
+  HandEyeSettings solver;
+};
+
+HandEyeNodeSettings ReadHandEyeNodeSettings(ConfigReader section);
+
+class HandEyeNode : public StageNode {
+ public:
+  explicit HandEyeNode(HandEyeNodeSettings settings) : settings_(std::move(settings)) {}
+  void Start(Bus& bus) override;
+  void Tick(Bus& bus, int64_t now_utime) override;
+  StageStatus Status() const override;
+
+  // The latest scaleless (initial) and current results, for tools that run the node in-process.
+  const std::optional<HandEyeResult>& initial() const { return initial_; }
+  const std::optional<HandEyeResult>& current() const { return current_; }
+  bool converged() const { return converged_; }
+
+ private:
+  using PairKey = std::pair<int, int>;
+  void OnMotion(Bus& bus, const motion_t& motion);
+  void OnFusedMotions(Bus& bus, const motion_set_t& set);
+  void StartRound(Bus& bus);
+  void Publish(Bus& bus, const HandEyeResult& result, const std::string& status, double change, bool ask);
+  std::vector<MotionPair> ScalelessPairs() const;
+
+  HandEyeNodeSettings settings_;
+  std::map<PairKey, motion_t> camera_motions_, lidar_motions_;
+  std::optional<HandEyeResult> initial_, current_;
+  int version_ = 0;
+  int awaiting_version_ = -1;  // the version whose FUSED_MOTIONS we wait for, -1: none
+  extrinsic_t last_published_{};
+  int64_t last_sent_utime_ = 0;
+  int iteration_ = 0;
+  bool converged_ = false;
+  std::vector<Subscription> subscriptions_;
+  int retries_ = 0;
+  double busy_s_ = 0;
+  std::string state_ = "waiting for motions";
+};
+
+}  // namespace fusecal
