@@ -88,6 +88,7 @@ int StageMain(int argc, char** argv, const StageDefinition& stage) {
       bus->Handle(100);
       node->Tick(*bus, NowUtime());
     } catch (const std::exception& e) {
+      if (g_stop_requested) break;  // a signal interrupted the wait: not an error
       last_error = e.what();
       std::cerr << "fusecal-" << stage.name << ": error: " << last_error << " (still running)\n";
     }

@@ -27,6 +27,8 @@ class StageNode {
   virtual void Start(Bus& bus) = 0;
   // Called about every 100 ms and after each batch of messages (timeouts, retries).
   virtual void Tick(Bus& bus, int64_t now_utime) {}
+  // The input has ended (a replayed log is exhausted): emit whatever is pending.
+  virtual void Flush(Bus& bus) {}
   virtual StageStatus Status() const = 0;
 };
 

@@ -15,5 +15,7 @@ void AddExportCommand(CLI::App& app, int* exit_code);
 void AddImportCommands(CLI::App& app, int* exit_code);
 void AddSimulateCommand(CLI::App& app, int* exit_code);
 void AddHandEyeCommand(CLI::App& app, int* exit_code);
+void AddCalibrateCommand(CLI::App& app, int* exit_code);
+void AddRunCommand(CLI::App& app, int* exit_code);
 
 }  // namespace fusecal

@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
   fusecal::AddImportCommands(app, &exit_code);
   fusecal::AddSimulateCommand(app, &exit_code);
   fusecal::AddHandEyeCommand(app, &exit_code);
+  fusecal::AddCalibrateCommand(app, &exit_code);
+  fusecal::AddRunCommand(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,5 +1,6 @@
 #include "overlay.hpp"
 
+#include <algorithm>
 #include <opencv2/imgproc.hpp>
 
 namespace fusecal {
@@ -43,14 +44,28 @@ cv::Mat RenderDepthOverlay(const cv::Mat& image, const PointCloud& cloud, const 
                            const Isometry3& T_camera_lidar, double max_depth_m) {
   cv::Mat canvas = ToBgr(image);
   const ProjectedScan scan = ProjectScan(cloud, camera, T_camera_lidar);
+  // Colour scale from the scene itself (95th percentile of the depths), capped at max_depth_m.
+  std::vector<float> depths;
+  for (int v = 0; v < scan.depth.rows; ++v)
+    for (int u = 0; u < scan.depth.cols; ++u)
+      if (scan.depth.at<float>(v, u) > 0) depths.push_back(scan.depth.at<float>(v, u));
+  if (depths.empty()) return canvas;
+  std::nth_element(depths.begin(), depths.begin() + depths.size() * 95 / 100, depths.end());
+  const double scale_max = std::min<double>(max_depth_m, std::max(1.0f, depths[depths.size() * 95 / 100]));
   cv::Mat depth8;
-  scan.depth.convertTo(depth8, CV_8U, 255.0 / max_depth_m);
+  scan.depth.convertTo(depth8, CV_8U, 255.0 / scale_max);
   cv::Mat colours;
-  cv::applyColorMap(depth8, colours, cv::COLORMAP_JET);  // near blue .. far red
+  cv::applyColorMap(255 - depth8, colours, cv::COLORMAP_JET);  // near red .. far blue
+  // Sparse scans (a few points per hundred pixels) get dots; dense ones single pixels.
+  const bool sparse = depths.size() < scan.depth.total() / 50;
   for (int v = 0; v < canvas.rows; ++v)
-    for (int u = 0; u < canvas.cols; ++u)
-      if (scan.depth.at<float>(v, u) > 0)
+    for (int u = 0; u < canvas.cols; ++u) {
+      if (scan.depth.at<float>(v, u) <= 0) continue;
+      if (sparse)
         cv::circle(canvas, {u, v}, 1, colours.at<cv::Vec3b>(v, u), cv::FILLED);
+      else
+        canvas.at<cv::Vec3b>(v, u) = colours.at<cv::Vec3b>(v, u);
+    }
   return canvas;
 }
 

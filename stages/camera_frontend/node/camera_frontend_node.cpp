@@ -26,6 +26,11 @@ void CameraFrontendNode::Start(Bus& bus) {
 }
 
 void CameraFrontendNode::OnStation(Bus& bus, const station_t& station) {
+  if (const auto seen = published_.find(station.id); seen != published_.end()) {
+    for (const auto& motion : seen->second) bus.Publish(channels::kCameraMotion, motion);
+    return;
+  }
+  published_[station.id];
   ++stations_;
   const auto start = std::chrono::steady_clock::now();
   cv::Mat image;
@@ -53,6 +58,7 @@ void CameraFrontendNode::OnStation(Bus& bus, const station_t& station) {
     motion.iterations = result.refinement_iterations;
     motion.seconds = result.seconds;
     bus.Publish(channels::kCameraMotion, motion);
+    published_[station.id].push_back(motion);
   }
   previous_.emplace_back(station.id, std::move(features));
   while (static_cast<int>(previous_.size()) > settings_.previous_stations) previous_.pop_front();

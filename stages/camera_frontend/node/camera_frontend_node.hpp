@@ -4,9 +4,11 @@
 #pragma once
 
 #include <deque>
+#include <map>
 #include <memory>
 
 #include "camera_frontend/relative_pose.hpp"
+#include "fusecal/motion_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "runtime/config_reader.hpp"
 #include "runtime/stage_main.hpp"
@@ -33,6 +35,9 @@ class CameraFrontendNode : public StageNode {
   std::unique_ptr<CameraModel> camera_;
   std::deque<std::pair<int, ImageFeatures>> previous_;
   std::vector<Subscription> subscriptions_;
+  // Motions published for each station, republished when a station comes again (a restarted stage
+  // downstream needs them); the station itself is not processed twice.
+  std::map<int, std::vector<motion_t>> published_;
   int stations_ = 0, motions_ = 0, failures_ = 0;
   double busy_s_ = 0;
 };

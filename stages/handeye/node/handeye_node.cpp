@@ -12,6 +12,14 @@ namespace {
 
 bool Observable(const HandEyeResult& r) { return r.observability == handeye_observability::kOk; }
 
+// The alternation can start when the rotation is known: the scaleless translation may still be partly
+// unobservable (every motion's unknown scale absorbs one direction; rotations about a pivot give
+// translation directions that repeat), which the metric camera motions of fusion odometry resolve.
+bool CanRefine(const HandEyeResult& r) {
+  return r.status != handeye_status::kFailed && r.observability != handeye_observability::kRotationDegenerate &&
+         r.observability != handeye_observability::kTooFewMotions;
+}
+
 double Seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -73,22 +81,38 @@ std::vector<MotionPair> HandEyeNode::ScalelessPairs() const {
 
 void HandEyeNode::StartRound(Bus& bus) {
   const auto start = std::chrono::steady_clock::now();
-  initial_ = SolveScaleless(ScalelessPairs(), settings_.solver, current_ ? &current_->T_camera_lidar : nullptr);
+  // No prior: the scaleless estimate stays what the scaleless motions alone say (the baseline).
+  initial_ = SolveScaleless(ScalelessPairs(), settings_.solver);
   busy_s_ += Seconds(start);
   iteration_ = 0;
   converged_ = false;
-  // Online refinement resumes from the current scaled estimate when there is one.
-  const HandEyeResult& start_point = (current_ && Observable(*initial_)) ? *current_ : *initial_;
-  const bool usable = initial_->status != handeye_status::kFailed && Observable(*initial_);
+  const bool usable = CanRefine(*initial_);
+  const bool resume = usable && current_ && current_->scaled;
   const bool ask = usable && settings_.scaled_refinement;
-  std::string status = "initial";
-  if (initial_->status == handeye_status::kFailed) status = "failed";
-  else if (!Observable(*initial_)) status = "degenerate";
-  else if (!settings_.scaled_refinement) status = initial_->converged ? "converged" : "initial";
-  if (!current_ || !usable) current_ = *initial_;
-  state_ = ask ? "refining" : "waiting for motions (" + status + ")";
-  if (!settings_.scaled_refinement && status == "converged") converged_ = true;
-  Publish(bus, start_point, status, 0.0, ask);
+  if (!usable) {
+    // Not enough to refine: report what the motions give and wait for more.
+    const std::string status = initial_->status == handeye_status::kFailed ? "failed" : "degenerate";
+    if (!current_ || !current_->scaled) current_ = *initial_;
+    state_ = "waiting for motions (" + initial_->observability + ")";
+    Publish(bus, *initial_, status, 0.0, false);
+    return;
+  }
+  if (!ask) {
+    current_ = *initial_;
+    converged_ = Observable(*initial_) && initial_->converged;
+    state_ = converged_ ? "converged (scaleless)" : "waiting for motions (" + initial_->observability + ")";
+    Publish(bus, *initial_, converged_ ? "converged" : "degenerate", 0.0, false);
+    return;
+  }
+  state_ = "refining";
+  if (resume) {
+    // The scaleless estimate over all motions, for the record; then continue from the scaled estimate.
+    Publish(bus, *initial_, "initial", 0.0, false);
+    Publish(bus, *current_, "refining", 0.0, true);
+  } else {
+    current_ = *initial_;
+    Publish(bus, *initial_, "refining", 0.0, true);
+  }
 }
 
 void HandEyeNode::OnFusedMotions(Bus& bus, const motion_set_t& set) {
@@ -132,6 +156,21 @@ void HandEyeNode::OnFusedMotions(Bus& bus, const motion_set_t& set) {
 void HandEyeNode::Publish(Bus& bus, const HandEyeResult& result, const std::string& status, double change,
                           bool ask) {
   extrinsic_t msg = ToExtrinsicMessage(result, ++version_, NowUtime());
+  if (msg.num_used == 0 && msg.num_rejected == 0) {
+    // A solve that used nothing (too few motions) lists the pairs it had as not used.
+    for (const auto& p : ScalelessPairs()) {
+      msg.rejected_station_i.push_back(p.station_i);
+      msg.rejected_station_j.push_back(p.station_j);
+    }
+    msg.num_rejected = static_cast<int32_t>(msg.rejected_station_i.size());
+  }
+  if (ask && initial_) {
+    // Fusion odometry computes the pairs a request lists: all that the newest scaleless solve used.
+    const extrinsic_t pairs = ToExtrinsicMessage(*initial_, 0, 0);
+    msg.num_used = pairs.num_used;
+    msg.used_station_i = pairs.used_station_i;
+    msg.used_station_j = pairs.used_station_j;
+  }
   msg.status = status;
   msg.converged = status == "converged";
   msg.iteration = iteration_;

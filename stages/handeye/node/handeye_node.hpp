@@ -1,3 +1,7 @@
+// EXTRINSIC status: "refining" asks fusion odometry for the metric motions of the listed pairs;
+// "initial" is the scaleless estimate over all motions (for the record); "converged", "not_converged",
+// "degenerate" (what the motions cannot determine; never converged) and "failed" end a round.
+//
 // fusecal-handeye: pairs CAMERA_MOTION and LIDAR_MOTION by station pair, solves the scaleless initial
 // extrinsic (paper III-A-2), then alternates with fusion odometry (III-B-2, DESIGN.md section 3):
 //   publish EXTRINSIC version k  ->  fusion odometry answers FUSED_MOTIONS for version k

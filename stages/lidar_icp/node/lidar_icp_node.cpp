@@ -29,6 +29,11 @@ void LidarIcpNode::Start(Bus& bus) {
 }
 
 void LidarIcpNode::OnStation(Bus& bus, const station_t& station) {
+  if (const auto seen = published_.find(station.id); seen != published_.end()) {
+    for (const auto& motion : seen->second) bus.Publish(channels::kLidarMotion, motion);
+    return;
+  }
+  published_[station.id];
   ++stations_;
   PointCloud cloud;
   try {
@@ -51,6 +56,7 @@ void LidarIcpNode::OnStation(Bus& bus, const station_t& station) {
     motion.inliers = static_cast<int32_t>(result.inliers);
     motion.seconds = result.seconds;
     bus.Publish(channels::kLidarMotion, motion);
+    published_[station.id].push_back(motion);
     result.converged ? ++motions_ : ++failures_;
   }
   previous_.emplace_back(station.id, std::move(cloud));

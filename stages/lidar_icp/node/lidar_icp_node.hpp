@@ -7,6 +7,7 @@
 #include <map>
 
 #include "common/point_cloud.hpp"
+#include "fusecal/motion_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "lidar_icp/registration.hpp"
 #include "runtime/config_reader.hpp"
@@ -34,6 +35,9 @@ class LidarIcpNode : public StageNode {
   LidarIcpNodeSettings settings_;
   std::deque<std::pair<int, PointCloud>> previous_;  // (station id, scan), newest last
   std::vector<Subscription> subscriptions_;
+  // Motions published for each station, republished when a station comes again (a restarted stage
+  // downstream needs them); the station itself is not processed twice.
+  std::map<int, std::vector<motion_t>> published_;
   int stations_ = 0, motions_ = 0, failures_ = 0;
   double busy_s_ = 0;
   std::string state_ = "waiting";

@@ -1,0 +1,53 @@
+// fusecal-fusion-odometry: caches stations and LiDAR motions; on EXTRINSIC version k (one that asks for
+// refinement) recomputes the metric camera motion of every station pair the extrinsic used, warm-started
+// from the previous version's motion, and publishes one FUSED_MOTIONS for version k. A repeated version
+// is answered again from cache; versions older than the newest answered one are ignored.
+#pragma once
+
+#include <map>
+#include <memory>
+
+#include "fusecal/extrinsic_t.hpp"
+#include "fusecal/motion_set_t.hpp"
+#include "fusecal/station_t.hpp"
+#include "fusion_odometry/fusion_odometry.hpp"
+#include "runtime/config_reader.hpp"
+#include "runtime/stage_main.hpp"
+
+namespace fusecal {
+
+struct FusionOdometryNodeSettings {
+  fusion_odometry::FusionOdometrySettings odometry;
+};
+
+FusionOdometryNodeSettings ReadFusionOdometryNodeSettings(ConfigReader section);
+
+class FusionOdometryNode : public StageNode {
+ public:
+  explicit FusionOdometryNode(FusionOdometryNodeSettings settings) : settings_(std::move(settings)) {}
+  void Start(Bus& bus) override;
+  StageStatus Status() const override;
+
+ private:
+  struct CachedStation {
+    cv::Mat image;
+    PointCloud cloud;
+    std::shared_ptr<CameraModel> camera;
+  };
+  using PairKey = std::pair<int, int>;
+  void OnStation(const station_t& station);
+  void OnExtrinsic(Bus& bus, const extrinsic_t& extrinsic);
+  motion_t ComputeMotion(int i, int j, const Isometry3& X, int version);
+
+  FusionOdometryNodeSettings settings_;
+  std::map<int, CachedStation> stations_;
+  std::map<PairKey, Isometry3> lidar_motions_;
+  std::map<PairKey, Isometry3> last_camera_motions_;  // warm start of the next version
+  std::map<int, motion_set_t> answered_;              // version -> answer (kept small)
+  int newest_answered_ = -1;
+  std::vector<Subscription> subscriptions_;
+  int motions_ = 0, failures_ = 0, repeats_ = 0;
+  double busy_s_ = 0;
+};
+
+}  // namespace fusecal

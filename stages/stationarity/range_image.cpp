@@ -1,0 +1,80 @@
+#include "stationarity/range_image.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace fusecal {
+
+namespace {
+constexpr float kPi = 3.14159265358979f;
+constexpr float kRadToDeg = 180.0f / kPi;
+}  // namespace
+
+RangeImage BuildRangeImage(const PointCloud& cloud, const LidarChangeSettings& settings) {
+  RangeImage img;
+  const size_t n = cloud.size();
+  bool by_ring = cloud.ring.size() == n && n > 0;
+  if (by_ring) {
+    for (int16_t r : cloud.ring) {
+      if (r < 0 || r >= settings.max_rings) {
+        by_ring = false;
+        break;
+      }
+    }
+  }
+  img.by_ring = by_ring;
+  img.cols = std::max(1, static_cast<int>(std::lround(360.0 / settings.azimuth_bin_deg)));
+  img.rows = by_ring ? settings.max_rings
+                     : std::max(1, static_cast<int>(std::lround(180.0 / settings.elevation_bin_deg)));
+  img.range.assign(static_cast<size_t>(img.rows) * img.cols, std::numeric_limits<float>::infinity());
+
+  const float min_r = static_cast<float>(settings.min_range_m), max_r = static_cast<float>(settings.max_range_m);
+  const float col_per_deg = img.cols / 360.0f, row_per_deg = img.rows / 180.0f;
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3f& p = cloud.points[i];
+    if (!p.allFinite()) continue;
+    const float r = p.norm();
+    if (!(r >= min_r && r <= max_r)) continue;
+    int col = static_cast<int>((std::atan2(p.y(), p.x()) * kRadToDeg + 180.0f) * col_per_deg);
+    col = std::clamp(col, 0, img.cols - 1);
+    int row;
+    if (by_ring) {
+      row = cloud.ring[i];
+    } else {
+      const float elevation_deg = std::asin(std::clamp(p.z() / r, -1.0f, 1.0f)) * kRadToDeg;
+      row = std::clamp(static_cast<int>((90.0f - elevation_deg) * row_per_deg), 0, img.rows - 1);
+    }
+    float& cell = img.range[static_cast<size_t>(row) * img.cols + col];
+    cell = std::min(cell, r);
+    ++img.valid_points;
+  }
+  for (float r : img.range) img.valid_cells += std::isfinite(r) ? 1 : 0;
+  return img;
+}
+
+LidarChange CompareRangeImages(const RangeImage& a, const RangeImage& b, const LidarChangeSettings& settings) {
+  LidarChange out;
+  if (a.rows != b.rows || a.cols != b.cols || a.by_ring != b.by_ring) {
+    out.problem = "range image layouts differ (ring field present in one scan only?)";
+    return out;
+  }
+  std::vector<float> diff;
+  diff.reserve(std::min(a.valid_cells, b.valid_cells));
+  for (size_t i = 0; i < a.range.size(); ++i) {
+    const float ra = a.range[i], rb = b.range[i];
+    if (std::isfinite(ra) && std::isfinite(rb)) diff.push_back(std::fabs(ra - rb));
+  }
+  out.common_cells = static_cast<int>(diff.size());
+  if (out.common_cells < settings.min_valid_cells) {
+    out.problem = "too few cells in common (" + std::to_string(out.common_cells) + ")";
+    return out;
+  }
+  const size_t k = std::min(diff.size() - 1, static_cast<size_t>(settings.change_quantile * (diff.size() - 1) + 0.5));
+  std::nth_element(diff.begin(), diff.begin() + k, diff.end());
+  out.change_m = diff[k];
+  out.valid = true;
+  return out;
+}
+
+}  // namespace fusecal

@@ -1,0 +1,147 @@
+// End to end: `fusecal calibrate` (one process, memq) and `fusecal run` (separate stage processes on
+// loopback UDP multicast) on a small simulated scenario; determinism, agreement, a stage killed with
+// SIGKILL, and logs that cannot give an answer.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "../runtime/process_utils.hpp"
+#include "common/extrinsic_error.hpp"
+#include "runtime/ground_truth.hpp"
+#include "runtime/result_file.hpp"
+
+namespace fusecal {
+namespace {
+
+using testing_utils::RunCommand;
+const std::string kFusecal = FUSECAL_BIN;
+const std::string kScenarios = SCENARIO_DIR;
+// A port of its own, so that nothing else on the machine talks into the test.
+const std::string kBus = "udpm://239.255.76.67:7683?ttl=0&recv_buf_size=67108864";
+
+std::string Temp(const std::string& name) {
+  return testing::TempDir() + "fusecal_e2e_" + std::to_string(getpid()) + "_" + name;
+}
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+class Pipeline : public testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    log_ = Temp("small.lcmlog");
+    const auto sim = RunCommand(kFusecal + " simulate --scenario " + kScenarios +
+                                "/small-equirect.yaml --stations-only --out " + log_ + " 2>&1");
+    ASSERT_EQ(sim.exit_code, 0) << sim.output;
+    const auto cal = RunCommand(kFusecal + " calibrate --log " + log_ + " --out " + Temp("cal1") + " 2>&1");
+    ASSERT_EQ(cal.exit_code, 0) << cal.output;
+  }
+  static std::string log_;
+};
+std::string Pipeline::log_;
+
+TEST_F(Pipeline, CalibrateMeetsTheBoundsAndIsDeterministic) {
+  const CalibrationResult result = ReadResultFile(Temp("cal1") + "/extrinsic.yaml");
+  const ExtrinsicError error = CompareExtrinsics(result.T_camera_lidar, ReadReferenceExtrinsic(log_));
+  EXPECT_LT(error.rotation_deg, 0.1);
+  EXPECT_LT(error.translation_m, 0.01);
+  EXPECT_EQ(result.status, "converged");
+  const auto again = RunCommand(kFusecal + " calibrate --log " + log_ + " --out " + Temp("cal2") + " 2>&1");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(ReadAll(Temp("cal1") + "/extrinsic.yaml"), ReadAll(Temp("cal2") + "/extrinsic.yaml"));
+  for (const char* file : {"convergence.csv", "convergence.png", "overlay-0.png", "colored_cloud.ply", "session.lcmlog"})
+    EXPECT_EQ(access((Temp("cal1") + "/" + file).c_str(), F_OK), 0) << file;
+}
+
+TEST_F(Pipeline, SeparateProcessesOverUdpAgreeWithCalibrate) {
+  const auto run = RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus '" + kBus + "' --out " +
+                              Temp("run") + " 2>&1");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto eval = RunCommand(kFusecal + " evaluate --result " + Temp("run") + "/extrinsic.yaml --truth " +
+                               Temp("cal1") + "/extrinsic.yaml");
+  const auto j = nlohmann::json::parse(eval.output);
+  EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << run.output;
+  EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << run.output;
+}
+
+TEST_F(Pipeline, StageKilledWithSigkillIsRestartedAndTheAnswerStays) {
+  const std::string out = Temp("killed");
+  // Its own port: the stage processes are found by it ("[f]" keeps pgrep from matching itself).
+  const std::string bus = "udpm://239.255.76.67:7684?ttl=0&recv_buf_size=67108864";
+  const std::string command = kFusecal + " run --log " + log_ + " --speed 0 --bus '" + bus + "' --out " + out;
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const std::string redirected = command + " > " + out + ".txt 2>&1";
+    execl("/bin/sh", "sh", "-c", redirected.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Kill the ICP stage once it is up and the replay has begun.
+  bool killed = false;
+  for (int i = 0; i < 200 && !killed; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const auto pids = RunCommand("pgrep -f '[f]usecal-lidar-icp.*7684' || true");
+    if (!pids.output.empty() && i > 20) killed = RunCommand("pkill -9 -f '[f]usecal-lidar-icp.*7684'").exit_code == 0;
+  }
+  ASSERT_TRUE(killed) << "the ICP stage never appeared";
+  int status = 0;
+  waitpid(pid, &status, 0);
+  const std::string output = ReadAll(out + ".txt");
+  EXPECT_NE(output.find("restarted"), std::string::npos) << output;
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+  const auto eval = RunCommand(kFusecal + " evaluate --result " + out + "/extrinsic.yaml --truth " + Temp("cal1") +
+                               "/extrinsic.yaml");
+  const auto j = nlohmann::json::parse(eval.output);
+  EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << output;
+  EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << output;
+}
+
+TEST(PipelineBadInput, NoStationsAndOneRotationAxisGiveAVerdictNotACrash) {
+  // A log with only the ground truth: no station at all.
+  const std::string empty_log = Temp("empty.lcmlog");
+  ASSERT_EQ(RunCommand(kFusecal + " simulate --scenario " + kScenarios + "/tiny-equirect.yaml --stations-only --out " +
+                       empty_log + " 2>&1")
+                .exit_code,
+            0);
+  {
+    std::string bytes = ReadAll(empty_log);
+    // The first two events are CAMERA_INFO and GROUND_TRUTH (small); cut after them.
+    size_t pos = 0;
+    for (int event = 0; event < 2; ++event) {
+      const auto u32 = [&](size_t at) {
+        return (uint32_t(uint8_t(bytes[at])) << 24) | (uint32_t(uint8_t(bytes[at + 1])) << 16) |
+               (uint32_t(uint8_t(bytes[at + 2])) << 8) | uint32_t(uint8_t(bytes[at + 3]));
+      };
+      pos += 28 + u32(pos + 20) + u32(pos + 24);
+    }
+    std::ofstream(empty_log, std::ios::binary | std::ios::trunc).write(bytes.data(), pos);
+  }
+  const auto none = RunCommand(kFusecal + " calibrate --log " + empty_log + " --out " + Temp("none") + " 2>&1");
+  EXPECT_EQ(none.exit_code, 1) << none.output;
+  EXPECT_NE(none.output.find("no extrinsic was estimated"), std::string::npos) << none.output;
+  EXPECT_EQ(ReadResultFile(Temp("none") + "/extrinsic.yaml").status, "failed");
+
+  // Turns about the vertical axis only: the rotation about it is all the motions say.
+  const std::string scenario = Temp("yaw-only.yaml"), yaw_log = Temp("yaw.lcmlog");
+  std::string text = ReadAll(kScenarios + "/tiny-equirect.yaml");
+  text.replace(text.find("vertical: 2"), 11, "vertical: 0");
+  std::ofstream(scenario) << text;
+  ASSERT_EQ(RunCommand(kFusecal + " simulate --scenario " + scenario + " --stations-only --out " + yaw_log + " 2>&1").exit_code, 0);
+  const auto yaw = RunCommand(kFusecal + " calibrate --log " + yaw_log + " --out " + Temp("yaw") + " 2>&1");
+  EXPECT_EQ(yaw.exit_code, 1) << yaw.output;
+  const CalibrationResult verdict = ReadResultFile(Temp("yaw") + "/extrinsic.yaml");
+  EXPECT_NE(verdict.status, "converged");
+  EXPECT_TRUE(verdict.observability == "rotation_degenerate" || verdict.observability == "too_few_motions")
+      << verdict.observability;
+}
+
+}  // namespace
+}  // namespace fusecal

@@ -1,0 +1,59 @@
+// `fusecal run --config configs/pipeline.yaml [--log LOG [--speed X]] --out DIR`.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <csignal>
+#include <iomanip>
+#include <iostream>
+
+#include "commands.hpp"
+#include "pipeline/run.hpp"
+
+namespace fusecal {
+
+namespace {
+std::atomic<bool> g_stop{false};
+void OnSignal(int) { g_stop = true; }
+}  // namespace
+
+void AddRunCommand(CLI::App& app, int* exit_code) {
+  auto* cmd = app.add_subcommand("run", "the stages as separate processes on the bus, supervised");
+  static std::string config = DefaultPipelineConfigPath();
+  static RunOptions options;
+  cmd->add_option("--config", config, "pipeline config (the stages are given the same file)");
+  cmd->add_option("--log", options.log_path, "LCM log to play into the bus (default: live sensors)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--speed", options.speed, "replay speed (1 = recorded timing, 0 = as fast as the stages go)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--bus", options.bus_url, "bus URL (default: the config's)");
+  cmd->add_option("--out", options.out_dir, "output folder")->required();
+  cmd->callback([exit_code] {
+    std::signal(SIGINT, OnSignal);
+    std::signal(SIGTERM, OnSignal);
+    const bool tty = isatty(STDERR_FILENO);
+    try {
+      const PipelineConfig pipeline = LoadPipelineConfig(config);
+      const RunReport report = RunPipeline(
+          pipeline, options, g_stop,
+          [tty](const std::string& line) {
+            if (tty)
+              std::cerr << "\r\033[K" << line << std::flush;
+            else
+              std::cerr << line << "\n";
+          },
+          [tty](const std::string& line) { std::cerr << (tty ? "\r\033[K" : "") << line << "\n"; });
+      if (tty) std::cerr << "\n";
+      if (g_stop) std::cerr << "stopped by signal; writing what was computed\n";
+      std::cout << SummaryText(report.outputs, options.out_dir);
+      std::cout << std::fixed << std::setprecision(2) << "time: " << report.total_seconds << " s total;";
+      for (const auto& [stage, seconds] : report.stage_seconds) std::cout << " " << stage << " " << seconds << " s";
+      std::cout << "; stage restarts: " << report.restarts << "\n";
+      *exit_code = report.outputs.final_result.status == "converged" ? 0 : 1;
+    } catch (const std::exception& e) {
+      std::cerr << "\nfusecal run: " << e.what() << "\n";
+      *exit_code = 1;
+    }
+  });
+}
+
+}  // namespace fusecal

@@ -1,0 +1,24 @@
+// `fusecal calibrate`: the five stage nodes in one process over memq://, fed from a log as fast as they
+// take it (each event is fully processed before the next: nothing dropped, deterministic).
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "pipeline/outputs.hpp"
+#include "pipeline/pipeline_config.hpp"
+
+namespace fusecal {
+
+struct CalibrateReport {
+  CalibrationOutputs outputs;
+  std::map<std::string, double> stage_seconds;  // time spent in each stage's handlers
+  double total_seconds = 0;
+  int stations = 0;
+};
+
+// `progress` receives a one-line status after every station and extrinsic version.
+CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out_dir, const PipelineConfig& config,
+                             const std::function<void(const std::string&)>& progress = nullptr);
+
+}  // namespace fusecal

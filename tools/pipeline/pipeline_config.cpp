@@ -1,0 +1,29 @@
+#include "pipeline/pipeline_config.hpp"
+
+namespace fusecal {
+
+PipelineConfig LoadPipelineConfig(const std::string& path) {
+  PipelineConfig c;
+  c.path = path;
+  ConfigReader root = ConfigReader::FromFile(path);
+  ConfigReader bus = root.Child("bus");
+  bus.Get("url", &c.bus_url);
+  bus.Finish();
+  root.Get("stations_from", &c.stations_from, OneOf({"auto", "detector", "log"}));
+  c.stationarity = ReadStationarityNodeSettings(root.Child("stationarity"));
+  c.lidar_icp = ReadLidarIcpNodeSettings(root.Child("lidar_icp"));
+  c.camera_frontend = ReadCameraFrontendNodeSettings(root.Child("camera_frontend"));
+  c.fusion_odometry = ReadFusionOdometryNodeSettings(root.Child("fusion_odometry"));
+  c.handeye = ReadHandEyeNodeSettings(root.Child("handeye"));
+  ConfigReader run = root.Child("run");
+  run.Get("idle_timeout_s", &c.idle_timeout_s, Positive<double>());
+  run.Finish();
+  root.Finish();
+  if (c.lidar_icp.previous_stations != c.camera_frontend.previous_stations)
+    root.Fail("camera_frontend.previous_stations", "must equal lidar_icp.previous_stations (the same pairs)");
+  return c;
+}
+
+std::string DefaultPipelineConfigPath() { return std::string(FUSECAL_SOURCE_DIR) + "/configs/pipeline.yaml"; }
+
+}  // namespace fusecal

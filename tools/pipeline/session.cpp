@@ -1,0 +1,88 @@
+#include "pipeline/session.hpp"
+
+#include <iomanip>
+#include <sstream>
+
+#include "fusecal/motion_set_t.hpp"
+#include "fusecal/motion_t.hpp"
+#include "fusecal/status_t.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/conversions.hpp"
+#include "runtime/result_file.hpp"
+
+namespace fusecal {
+
+template <typename M>
+static bool Decode(const RawMessage& raw, M* message) {
+  return message->decode(raw.data, 0, static_cast<int>(raw.size)) >= 0;
+}
+
+SessionRecord::SessionRecord(Bus& bus, const std::string& record_path, bool record_raw) : record_raw_(record_raw) {
+  if (!record_path.empty()) log_ = std::make_unique<LogWriter>(record_path);
+  subscriptions_.push_back(bus.SubscribeRaw(".*", [this](const RawMessage& raw) {
+    const std::string& ch = raw.channel;
+    const bool raw_stream = ch == channels::kCameraImage || ch == channels::kLidarScan;
+    if (log_ && (record_raw_ || !raw_stream)) log_->Write(ch, raw.receive_utime, raw.data, raw.size);
+    if (ch == channels::kStation) {
+      station_t s{};
+      if (Decode(raw, &s)) stations_[s.id] = std::move(s);
+      last_news_utime_ = raw.receive_utime;
+    } else if (ch == channels::kExtrinsic) {
+      extrinsic_t e{};
+      if (Decode(raw, &e) && (extrinsics_.empty() || e.version > extrinsics_.back().version)) extrinsics_.push_back(e);
+      last_news_utime_ = raw.receive_utime;
+    } else if (ch == channels::kGroundTruth) {
+      ground_truth_t g{};
+      if (Decode(raw, &g)) ground_truth_ = g;
+    } else if (ch == channels::kLidarMotion || ch == channels::kCameraMotion) {
+      motion_t m{};
+      if (!Decode(raw, &m)) return;
+      if (!m.valid) ++failed_motions_;
+      else if (ch == channels::kLidarMotion) ++lidar_motions_;
+      else ++camera_motions_;
+      last_news_utime_ = raw.receive_utime;
+    } else if (ch == channels::kStatus) {
+      status_t s{};
+      if (!Decode(raw, &s)) return;
+      stage_states_[s.name] = {s.state, s.last_error};
+      for (int i = 0; i < s.num_counters; ++i)
+        if (s.counter_names[i] == "busy_s") stage_busy_s_[s.name] = s.counter_values[i];
+    }
+  }));
+}
+
+SessionRecord::~SessionRecord() {
+  for (auto& s : subscriptions_) s.Unsubscribe();
+}
+
+void SessionRecord::Close() {
+  if (log_) log_->Close();
+}
+
+const extrinsic_t* SessionRecord::Final() const { return extrinsics_.empty() ? nullptr : &extrinsics_.back(); }
+
+const extrinsic_t* SessionRecord::Initial() const {
+  for (auto it = extrinsics_.rbegin(); it != extrinsics_.rend(); ++it)
+    if (!it->scaled && it->status != "failed") return &*it;
+  return nullptr;
+}
+
+std::string ProgressText(const SessionRecord& session) {
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(3);
+  out << "stations " << session.stations().size() << ", motions lidar " << session.lidar_motions() << " camera "
+      << session.camera_motions() << " failed " << session.failed_motions();
+  if (const extrinsic_t* e = session.Final()) {
+    const Isometry3 T = FromRowMajor(e->T_camera_lidar);
+    const Matrix6 cov = Matrix6FromArray(e->covariance);
+    const Eigen::Vector3d t = T.translation(), st = TranslationStdDevM(cov), sr = RotationStdDevDeg(cov);
+    const Eigen::Vector3d rpy = RpyFromRotation(T.linear()) * 180.0 / M_PI;
+    out << " | v" << e->version << " it" << e->iteration << " " << e->status << " (" << e->observability << ")"
+        << " t=[" << t.x() << " " << t.y() << " " << t.z() << "]+-" << std::setprecision(4) << st.maxCoeff()
+        << " m rpy=[" << std::setprecision(2) << rpy.x() << " " << rpy.y() << " " << rpy.z() << "]+-"
+        << std::setprecision(4) << sr.maxCoeff() << " deg";
+  }
+  return out.str();
+}
+
+}  // namespace fusecal

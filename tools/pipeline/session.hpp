@@ -1,0 +1,59 @@
+// What a calibration session saw on the bus: stations, motions, every EXTRINSIC version, the ground
+// truth when the log has one. Filled by a subscriber on any bus, so `calibrate` (in-process) and `run`
+// (separate processes) write the same outputs. Optionally records the traffic as an LCM log.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fusecal/extrinsic_t.hpp"
+#include "fusecal/ground_truth_t.hpp"
+#include "fusecal/station_t.hpp"
+#include "runtime/bus.hpp"
+#include "runtime/lcm_log.hpp"
+
+namespace fusecal {
+
+class SessionRecord {
+ public:
+  // `record_path` empty: no log. Raw streams (CAMERA_IMAGE, LIDAR_SCAN) are recorded only when
+  // `record_raw` (the input log already holds them in `calibrate`).
+  SessionRecord(Bus& bus, const std::string& record_path, bool record_raw);
+  ~SessionRecord();
+
+  const std::map<int, station_t>& stations() const { return stations_; }
+  const std::vector<extrinsic_t>& extrinsics() const { return extrinsics_; }
+  const std::optional<ground_truth_t>& ground_truth() const { return ground_truth_; }
+  int lidar_motions() const { return lidar_motions_; }
+  int camera_motions() const { return camera_motions_; }
+  int failed_motions() const { return failed_motions_; }
+  int64_t last_news_utime() const { return last_news_utime_; }
+  // Latest STATUS per stage name: state and last error.
+  const std::map<std::string, std::pair<std::string, std::string>>& stage_states() const { return stage_states_; }
+  const std::map<std::string, double>& stage_busy_s() const { return stage_busy_s_; }
+
+  // The latest EXTRINSIC, and the latest scaleless ("initial") one.
+  const extrinsic_t* Final() const;
+  const extrinsic_t* Initial() const;
+  void Close();
+
+ private:
+  std::vector<Subscription> subscriptions_;
+  std::unique_ptr<LogWriter> log_;
+  bool record_raw_;
+  std::map<int, station_t> stations_;
+  std::vector<extrinsic_t> extrinsics_;
+  std::optional<ground_truth_t> ground_truth_;
+  int lidar_motions_ = 0, camera_motions_ = 0, failed_motions_ = 0;
+  int64_t last_news_utime_ = 0;
+  std::map<std::string, std::pair<std::string, std::string>> stage_states_;
+  std::map<std::string, double> stage_busy_s_;
+};
+
+// One progress line: stations, motions, version, current estimate with standard deviations, verdict.
+std::string ProgressText(const SessionRecord& session);
+
+}  // namespace fusecal

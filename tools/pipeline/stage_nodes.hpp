@@ -1,0 +1,20 @@
+// The stage nodes of the pipeline, built from one config, for running them in one process.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pipeline/pipeline_config.hpp"
+#include "runtime/stage_main.hpp"
+
+namespace fusecal {
+
+struct NamedNode {
+  std::string name;
+  std::unique_ptr<StageNode> node;
+};
+
+std::vector<NamedNode> MakeStageNodes(const PipelineConfig& config, bool with_stationarity);
+
+}  // namespace fusecal

@@ -1,0 +1,87 @@
+#include "pipeline/supervisor.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <stdexcept>
+#include <thread>
+
+namespace fusecal {
+
+std::string ExecutableDir() {
+  std::error_code ec;
+  const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? "." : self.parent_path().string();
+}
+
+void Supervisor::Add(StageProcess process) {
+  if (access(process.executable.c_str(), X_OK) != 0)
+    throw std::runtime_error("stage executable not found: " + process.executable + " (build it: tools/setup)");
+  processes_.push_back(std::move(process));
+}
+
+void Supervisor::Launch(StageProcess& p) {
+  const std::string log = log_dir_ + "/" + p.name + ".log";
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("fork failed for stage " + p.name);
+  if (pid == 0) {
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    if (fd >= 0) {
+      dup2(fd, STDOUT_FILENO);
+      dup2(fd, STDERR_FILENO);
+    }
+    std::vector<char*> argv{const_cast<char*>(p.executable.c_str())};
+    for (auto& a : p.args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(p.executable.c_str(), argv.data());
+    _exit(127);
+  }
+  p.pid = pid;
+}
+
+void Supervisor::StartAll() {
+  for (auto& p : processes_) Launch(p);
+}
+
+std::vector<std::string> Supervisor::Poll() {
+  std::vector<std::string> events;
+  for (auto& p : processes_) {
+    if (p.pid <= 0) continue;
+    int status = 0;
+    if (waitpid(p.pid, &status, WNOHANG) != p.pid) continue;
+    const std::string how = WIFSIGNALED(status) ? "killed by signal " + std::to_string(WTERMSIG(status))
+                                                : "exited with status " + std::to_string(WEXITSTATUS(status));
+    ++p.restarts;
+    Launch(p);
+    events.push_back("stage " + p.name + " " + how + "; restarted (restart " + std::to_string(p.restarts) + ")");
+  }
+  return events;
+}
+
+void Supervisor::Stop() {
+  for (auto& p : processes_)
+    if (p.pid > 0) kill(p.pid, SIGTERM);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  for (auto& p : processes_) {
+    while (p.pid > 0) {
+      int status = 0;
+      if (waitpid(p.pid, &status, WNOHANG) == p.pid) {
+        p.pid = -1;
+        break;
+      }
+      if (std::chrono::steady_clock::now() > deadline) {
+        kill(p.pid, SIGKILL);
+        waitpid(p.pid, &status, 0);
+        p.pid = -1;
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+}
+
+}  // namespace fusecal

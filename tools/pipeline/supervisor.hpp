@@ -1,0 +1,42 @@
+// Starts the stage executables as separate processes and keeps them running: a stage that dies
+// (crash, SIGKILL) is started again; Stop() ends them all with SIGTERM (SIGKILL after a grace period).
+#pragma once
+
+#include <sys/types.h>
+
+#include <string>
+#include <vector>
+
+namespace fusecal {
+
+struct StageProcess {
+  std::string name;        // e.g. "lidar_icp"
+  std::string executable;  // full path of fusecal-<name>
+  std::vector<std::string> args;
+  pid_t pid = -1;
+  int restarts = 0;
+};
+
+class Supervisor {
+ public:
+  explicit Supervisor(std::string log_dir) : log_dir_(std::move(log_dir)) {}
+  ~Supervisor() { Stop(); }
+
+  // Throws std::runtime_error when an executable is missing.
+  void Add(StageProcess process);
+  void StartAll();
+  // Restarts stages that have exited; returns a line for each restart.
+  std::vector<std::string> Poll();
+  void Stop();
+  const std::vector<StageProcess>& processes() const { return processes_; }
+
+ private:
+  void Launch(StageProcess& p);
+  std::string log_dir_;
+  std::vector<StageProcess> processes_;
+};
+
+// Directory of the running executable (where the stage executables are installed beside it).
+std::string ExecutableDir();
+
+}  // namespace fusecal
