@@ -15,6 +15,8 @@ struct LcmBus::Slot {
 
 namespace {
 
+constexpr int kQueueCapacity = 200;
+
 void OnLcmMessage(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
   auto* slot = static_cast<LcmBus::Slot*>(user);
   slot->bus->Deliver(slot, channel, rbuf->data, rbuf->data_size, rbuf->recv_utime);
@@ -55,6 +57,9 @@ Subscription LcmBus::SubscribeRaw(const std::string& channel, RawHandler handler
   slot->handler = std::move(handler);
   slot->subscription = lcm_subscribe(lcm_, channel.c_str(), &OnLcmMessage, slot.get());
   if (!slot->subscription) throw BusError("LCM subscribe failed for channel " + channel);
+  // LCM keeps 30 messages per subscription by default and drops the rest while a handler is busy;
+  // stations and bursts of frames need more room.
+  lcm_subscription_set_queue_capacity(slot->subscription, kQueueCapacity);
   Slot* raw_slot = slot.get();
   slots_.push_back(std::move(slot));
   std::weak_ptr<bool> alive = alive_;

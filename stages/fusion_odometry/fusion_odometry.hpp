@@ -5,11 +5,13 @@
 //   project scan i into image i with X, keep visible points (z-buffer; visibility.hpp)
 //   -> keep trackable ones (corner response, spacing, budget; track_selection.hpp)
 //   -> KLT-track them into image j, initial flow predicted by the motion guess, forward-backward check
-//      (klt_tracking.hpp)  => 2D-3D correspondences (bearing v'_j in image j, point p_ci)
+//      (klt_tracking.hpp); image j is first resampled with camera i's orientation when the guess turns
+//      the camera (derotation.hpp)  => 2D-3D correspondences (bearing v'_j in image j, point p_ci)
 //   -> P3P RANSAC (Kneip 2011) on the bearings when the guess is not reliable (p3p_ransac.hpp)
 //   -> minimise sum_k rho(|v'_j x Proj(A^-1 X p_li)|^2) over A (paper: |v'_j x Proj(R_a (R p_j + t) + t_a)|,
 //      with (R_a, t_a) = A^-1 and (R, t) = X), robust loss, outlier tracks removed by their residual
-//      under the refined pose (pose_refinement.hpp).
+//      under the refined pose (pose_refinement.hpp); after a RANSAC start, tracked again with the estimate
+//      as the prediction and refined again.
 //
 // Conventions (DESIGN.md section 2): X = T_camera_lidar; the result is A = T_ci_cj, the pose of camera j in
 // the frame of camera i, p_ci = A p_cj. A LiDAR motion B = T_li_lj predicts A = X B X^-1 (A X = X B).

@@ -92,7 +92,7 @@ struct FusionOdometrySettings {
   // When to run the P3P RANSAC: "auto": unless the guess is marked reliable and at least
   // min_guess_inlier_ratio of the tracks agree with it; "always"; "never" (the guess is the start).
   std::string ransac_mode = "auto";
-  double min_guess_inlier_ratio = 0.6;
+  double min_guess_inlier_ratio = 0.5;
   // After a RANSAC pass, track again with the estimated motion as the predicted flow (recovers tracks a
   // poor guess lost) and refine again.
   bool retrack = true;

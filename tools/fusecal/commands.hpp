@@ -17,5 +17,6 @@ void AddSimulateCommand(CLI::App& app, int* exit_code);
 void AddHandEyeCommand(CLI::App& app, int* exit_code);
 void AddCalibrateCommand(CLI::App& app, int* exit_code);
 void AddRunCommand(CLI::App& app, int* exit_code);
+void AddStageCommands(CLI::App& app, int* exit_code);
 
 }  // namespace fusecal

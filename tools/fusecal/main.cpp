@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   fusecal::AddHandEyeCommand(app, &exit_code);
   fusecal::AddCalibrateCommand(app, &exit_code);
   fusecal::AddRunCommand(app, &exit_code);
+  fusecal::AddStageCommands(app, &exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
