@@ -1,0 +1,165 @@
+// The paper's Fig. 5/6 on our simulator: for 1..5 motion pairs (each one horizontal + one vertical
+// motion), 10 random subsets each, the error of "Scaleless" (the initial estimate, III-A-2) and "Ours"
+// (after alternating with sensor fusion odometry, III-B) against the ground truth.
+// Usage: bench_accuracy STATIONS_LOG OUT.csv [subsets=10] [max_pairs=5]
+#include <chrono>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <random>
+
+#include "camera_frontend/relative_pose.hpp"
+#include "common/extrinsic_error.hpp"
+#include "fusecal/station_t.hpp"
+#include "fusion_odometry/fusion_odometry.hpp"
+#include "handeye/handeye_solver.hpp"
+#include "lidar_icp/registration.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/conversions.hpp"
+#include "runtime/ground_truth.hpp"
+#include "runtime/lcm_log.hpp"
+
+using namespace fusecal;
+
+namespace {
+
+struct Station {
+  cv::Mat image;
+  PointCloud cloud;
+};
+
+struct Motion {
+  int i, j;
+  bool horizontal;  // about the vertical axis
+  Isometry3 B, A_scaleless;
+};
+
+struct Stats {
+  double mean = 0, std = 0;
+};
+
+Stats MeanStd(const std::vector<double>& v) {
+  Stats s;
+  for (double x : v) s.mean += x / v.size();
+  for (double x : v) s.std += (x - s.mean) * (x - s.mean) / v.size();
+  s.std = std::sqrt(s.std);
+  return s;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 3) {
+    std::cerr << "usage: bench_accuracy STATIONS_LOG OUT.csv [subsets=10] [max_pairs=5]\n";
+    return 2;
+  }
+  const std::string log = argv[1], csv_path = argv[2];
+  const int subsets = argc > 3 ? std::atoi(argv[3]) : 10;
+  const int max_pairs = argc > 4 ? std::atoi(argv[4]) : 5;
+  const auto truth = ReadGroundTruth(log);
+  if (!truth) {
+    std::cerr << log << ": no GROUND_TRUTH (make it with `fusecal simulate --stations-only`)\n";
+    return 1;
+  }
+  const Isometry3 X_true = FromRowMajor(truth->T_camera_lidar);
+  std::map<int, Isometry3> world_lidar;
+  for (int k = 0; k < truth->num_stations; ++k) world_lidar[truth->station_id[k]] = FromRowMajor(truth->T_world_lidar[k].data());
+
+  std::map<int, Station> stations;
+  std::unique_ptr<CameraModel> camera;
+  LogReader reader(log);
+  while (auto event = reader.Next()) {
+    if (event->channel != channels::kStation) continue;
+    station_t s{};
+    s.decode(event->data.data(), 0, static_cast<int>(event->data.size()));
+    stations[s.id] = {ImageToMat(s.image), CloudFromMsg(s.cloud)};
+    if (!camera) camera = MakeCameraModel(CameraFromMsg(s.camera));
+  }
+  // Motions between consecutive stations, measured once by the stage cores.
+  std::vector<Motion> motions;
+  for (auto it = stations.begin(); std::next(it) != stations.end(); ++it) {
+    const auto next = std::next(it);
+    const auto icp = lidar_icp::Register(it->second.cloud, next->second.cloud);
+    const auto cam = EstimateRelativePose(it->second.image, next->second.image, *camera);
+    if (!icp.converged || !cam.motion_valid()) {
+      std::cerr << "motion " << it->first << "-" << next->first << " skipped: " << icp.failure_reason << cam.failure_reason << "\n";
+      continue;
+    }
+    const Isometry3 B_true = world_lidar[it->first].inverse() * world_lidar[next->first];
+    const Eigen::Vector3d axis_world = world_lidar[it->first].linear() * LogSO3(B_true.linear()).normalized();
+    motions.push_back({it->first, next->first, std::abs(axis_world.z()) > 0.7, icp.T_li_lj, cam.A()});
+  }
+  std::vector<int> horizontal, vertical;
+  for (size_t k = 0; k < motions.size(); ++k) (motions[k].horizontal ? horizontal : vertical).push_back(int(k));
+  std::cerr << motions.size() << " motions: " << horizontal.size() << " horizontal, " << vertical.size() << " vertical\n";
+
+  std::ofstream csv(csv_path);
+  csv << "pairs,method,rot_err_deg_mean,rot_err_deg_std,trans_err_m_mean,trans_err_m_std,trials\n";
+  std::mt19937 rng(2018);
+  std::cout << std::fixed << std::setprecision(4);
+  std::cout << "pairs  method     rot mean  rot std   trans mean (cm)  trans std (cm)\n";
+  for (int n = 1; n <= max_pairs && n <= int(std::min(horizontal.size(), vertical.size())); ++n) {
+    std::vector<double> rot_s, trans_s, rot_o, trans_o;
+    for (int trial = 0; trial < subsets; ++trial) {
+      std::shuffle(horizontal.begin(), horizontal.end(), rng);
+      std::shuffle(vertical.begin(), vertical.end(), rng);
+      std::vector<int> chosen(horizontal.begin(), horizontal.begin() + n);
+      chosen.insert(chosen.end(), vertical.begin(), vertical.begin() + n);
+      std::vector<MotionPair> pairs;
+      for (int k : chosen) {
+        MotionPair p;
+        p.station_i = motions[k].i;
+        p.station_j = motions[k].j;
+        p.A = motions[k].A_scaleless;
+        p.B = motions[k].B;
+        p.camera_scaled = false;
+        pairs.push_back(p);
+      }
+      HandEyeSettings settings;
+      settings.min_pairs = 2;
+      const HandEyeResult initial = SolveScaleless(pairs, settings);
+      if (initial.status == handeye_status::kFailed) continue;
+      // The alternation (III-B-2): metric camera motions with the current X, then X again.
+      Isometry3 X = initial.T_camera_lidar;
+      std::map<int, Isometry3> previous;
+      for (int iteration = 0; iteration < 8; ++iteration) {
+        std::vector<MotionPair> scaled;
+        for (int k : chosen) {
+          fusion_odometry::MotionGuess guess;
+          guess.T_ci_cj = previous.count(k) ? previous[k] : fusion_odometry::CameraMotionFromLidar(X, motions[k].B);
+          guess.reliable = previous.count(k) > 0;
+          const auto fo = fusion_odometry::EstimateScaledMotion(stations[motions[k].i].cloud, stations[motions[k].i].image,
+                                                                stations[motions[k].j].image, *camera, X, guess);
+          if (!fo.converged) continue;
+          previous[k] = fo.T_ci_cj;
+          MotionPair p;
+          p.station_i = motions[k].i;
+          p.station_j = motions[k].j;
+          p.A = fo.T_ci_cj;
+          p.B = motions[k].B;
+          scaled.push_back(p);
+        }
+        const HandEyeResult result = SolveScaled(scaled, settings, &X);
+        if (result.status == handeye_status::kFailed) break;
+        const double change = RotationErrorDeg(result.T_camera_lidar.linear(), X.linear()) +
+                              (result.T_camera_lidar.translation() - X.translation()).norm() * 100;
+        X = result.T_camera_lidar;
+        if (change < 1e-4) break;
+      }
+      const ExtrinsicError e_s = CompareExtrinsics(initial.T_camera_lidar, X_true);
+      const ExtrinsicError e_o = CompareExtrinsics(X, X_true);
+      rot_s.push_back(e_s.rotation_deg);
+      trans_s.push_back(e_s.translation_m);
+      rot_o.push_back(e_o.rotation_deg);
+      trans_o.push_back(e_o.translation_m);
+    }
+    for (const auto& [name, rot, trans] : {std::tuple{"scaleless", rot_s, trans_s}, std::tuple{"ours", rot_o, trans_o}}) {
+      const Stats r = MeanStd(rot), t = MeanStd(trans);
+      csv << n << "," << name << "," << r.mean << "," << r.std << "," << t.mean << "," << t.std << "," << rot.size() << "\n";
+      std::cout << std::setw(5) << n << "  " << std::setw(9) << name << "  " << r.mean << "    " << r.std << "    "
+                << t.mean * 100 << "           " << t.std * 100 << "\n";
+    }
+  }
+  return 0;
+}
