@@ -143,5 +143,23 @@ TEST(PipelineBadInput, NoStationsAndOneRotationAxisGiveAVerdictNotACrash) {
       << verdict.observability;
 }
 
+TEST(PipelineBadInput, CameraThatSeesNothingOfTheLidarGivesAVerdict) {
+  // The pinhole camera looks straight up (camera axes = LiDAR axes): the 64 beams (+2 to -24.8 deg)
+  // never reach its 90 deg field of view, so no scan point has an image to be tracked in.
+  const std::string scenario = Temp("looking-up.yaml"), log = Temp("looking-up.lcmlog");
+  std::string text = ReadAll(kScenarios + "/indoor-pinhole-hdl64.yaml");
+  const size_t rpy = text.find("rpy_deg: [");
+  text.replace(rpy, text.find(']', rpy) - rpy + 1, "rpy_deg: [0, 0, 0]");
+  for (const auto& [key, value] : {std::pair{"horizontal: 5", "horizontal: 2"}, std::pair{"vertical: 5", "vertical: 2"}})
+    text.replace(text.find(key), std::string(key).size(), value);
+  std::ofstream(scenario) << text;
+  ASSERT_EQ(RunCommand(kFusecal + " simulate --scenario " + scenario + " --stations-only --out " + log + " 2>&1").exit_code, 0);
+  const auto result = RunCommand(kFusecal + " calibrate --log " + log + " --out " + Temp("up") + " 2>&1");
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_NE(result.output.find("fusion odometry failed"), std::string::npos) << result.output;
+  const CalibrationResult verdict = ReadResultFile(Temp("up") + "/extrinsic.yaml");
+  EXPECT_NE(verdict.status, "converged");
+}
+
 }  // namespace
 }  // namespace fusecal

@@ -119,8 +119,15 @@ void HandEyeNode::OnFusedMotions(Bus& bus, const motion_set_t& set) {
   if (set.extrinsic_version != awaiting_version_) return;  // old or repeated answer
   const auto start = std::chrono::steady_clock::now();
   std::vector<MotionPair> pairs;
+  std::string first_failure;
+  int failed = 0;
   for (const auto& m : set.motions) {
     const PairKey key{m.station_i, m.station_j};
+    if (!m.valid) {
+      ++failed;
+      if (first_failure.empty())
+        first_failure = std::to_string(m.station_i) + "-" + std::to_string(m.station_j) + ": " + m.failure_reason;
+    }
     const auto lidar = lidar_motions_.find(key);
     if (!m.valid || !m.scaled || lidar == lidar_motions_.end() || !lidar->second.valid) continue;
     MotionPair p;
@@ -136,8 +143,14 @@ void HandEyeNode::OnFusedMotions(Bus& bus, const motion_set_t& set) {
   if (result.status == handeye_status::kFailed) {
     // Keep what we had; say why and wait for more motions.
     awaiting_version_ = -1;
-    state_ = "waiting for motions (scaled solve failed: " + result.message + ")";
-    Publish(bus, *current_, "failed", 0.0, false);
+    std::string why = "scaled solve failed: " + result.message;
+    if (failed > 0)
+      why = "fusion odometry failed for " + std::to_string(failed) + " of " + std::to_string(set.motions.size()) +
+            " motions (first: " + first_failure + "); " + why;
+    state_ = "waiting for motions (" + why + ")";
+    HandEyeResult kept = *current_;
+    kept.message = why;
+    Publish(bus, kept, "failed", 0.0, false);
     return;
   }
   const double change_rot = RotationErrorDeg(result.T_camera_lidar.linear(), current_->T_camera_lidar.linear());
