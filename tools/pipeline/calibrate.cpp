@@ -9,21 +9,6 @@
 
 namespace fusecal {
 
-namespace {
-
-// "auto": stations from the log when it carries STATION messages early on, else the detector.
-bool LogHasStations(const std::string& log_path) {
-  LogReader reader(log_path);
-  for (int i = 0; i < 500; ++i) {
-    auto event = reader.Next();
-    if (!event) return false;
-    if (event->channel == channels::kStation) return true;
-  }
-  return false;
-}
-
-}  // namespace
-
 CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out_dir, const PipelineConfig& config,
                              const std::function<void(const std::string&)>& progress) {
   const auto start = std::chrono::steady_clock::now();
@@ -39,7 +24,14 @@ CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out
 
   size_t stations_seen = 0, versions_seen = 0;
   auto drain = [&] {
-    while (bus->Handle(0) > 0) {
+    // A stage that fails on one message (a corrupt image, a bad scan) says why and goes on, as its
+    // process would: nothing computed so far is lost.
+    for (;;) {
+      try {
+        if (bus->Handle(0) == 0) break;
+      } catch (const std::exception& e) {
+        if (progress) progress(std::string("stage error (continuing): ") + e.what());
+      }
     }
     if (progress && (session.stations().size() != stations_seen || session.extrinsics().size() != versions_seen)) {
       stations_seen = session.stations().size();
@@ -49,13 +41,9 @@ CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out
   };
   LogReader reader(log_path);
   while (auto event = reader.Next()) {
-    const std::string& ch = event->channel;
-    const bool station = ch == channels::kStation;
-    const bool raw = ch == channels::kCameraImage || ch == channels::kLidarScan || ch == channels::kCameraInfo;
-    if (ch == channels::kGroundTruth || (station && !use_detector) || (raw && use_detector)) {
-      bus->PublishRaw(ch, event->data.data(), event->data.size());
-      drain();
-    }
+    if (!FeedsPipeline(event->channel, use_detector)) continue;
+    bus->PublishRaw(event->channel, event->data.data(), event->data.size());
+    drain();
   }
   for (auto& n : nodes) n.node->Flush(*bus);
   drain();

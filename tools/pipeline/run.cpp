@@ -19,16 +19,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-bool LogHasStations(const std::string& log_path) {
-  LogReader reader(log_path);
-  for (int i = 0; i < 500; ++i) {
-    auto event = reader.Next();
-    if (!event) return false;
-    if (event->channel == channels::kStation) return true;
-  }
-  return false;
-}
-
 // Watches the bus for what tells the player that the pipeline has dealt with a station.
 struct PipelineWatch {
   std::set<std::pair<std::string, int>> motions_for;  // (sensor, station_j), valid or failed
@@ -91,7 +81,11 @@ RunReport RunPipeline(const PipelineConfig& config, const RunOptions& options, c
     std::string last_line;
     while (!stop && Clock::now() < end) {
       if (done && done()) return true;
-      bus->Handle(20);
+      try {
+        bus->Handle(20);
+      } catch (const std::exception& e) {
+        event(std::string("bus: ") + e.what());
+      }
       for (const auto& e : supervisor.Poll()) {
         ++report.restarts;
         event(e + "; it gets the stations again once it is up");
@@ -144,8 +138,7 @@ RunReport RunPipeline(const PipelineConfig& config, const RunOptions& options, c
       if (!ev) break;
       const std::string& ch = ev->channel;
       const bool station = ch == channels::kStation;
-      const bool raw = ch == channels::kCameraImage || ch == channels::kLidarScan || ch == channels::kCameraInfo;
-      if (!(ch == channels::kGroundTruth || (station && !use_detector) || (raw && use_detector))) continue;
+      if (!FeedsPipeline(ch, use_detector)) continue;
       if (first_utime < 0) first_utime = ev->utime;
       if (options.speed > 0) {
         const auto due = replay_start + std::chrono::microseconds(int64_t((ev->utime - first_utime) / options.speed));

@@ -67,6 +67,23 @@ const extrinsic_t* SessionRecord::Initial() const {
   return nullptr;
 }
 
+bool LogHasStations(const std::string& log_path) {
+  LogReader reader(log_path);
+  for (int i = 0; i < 500; ++i) {
+    auto event = reader.Next();
+    if (!event) return false;
+    if (event->channel == channels::kStation) return true;
+  }
+  return false;
+}
+
+bool FeedsPipeline(const std::string& ch, bool use_detector) {
+  if (ch == channels::kGroundTruth) return true;
+  if (ch == channels::kStation) return !use_detector;
+  const bool raw = ch == channels::kCameraImage || ch == channels::kLidarScan || ch == channels::kCameraInfo;
+  return raw && use_detector;
+}
+
 std::string ProgressText(const SessionRecord& session) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(3);

@@ -53,6 +53,14 @@ class SessionRecord {
   std::map<std::string, double> stage_busy_s_;
 };
 
+// True when the log carries STATION messages among its first 500 events (a stop-and-scan dataset or
+// `simulate --stations-only`); then the pipeline takes them instead of running the detector.
+bool LogHasStations(const std::string& log_path);
+
+// Whether a logged channel goes into the pipeline: the ground truth always; STATION when the stations
+// come from the log; the raw streams and CAMERA_INFO when the detector makes the stations.
+bool FeedsPipeline(const std::string& channel, bool use_detector);
+
 // One progress line: stations, motions, version, current estimate with standard deviations, verdict.
 std::string ProgressText(const SessionRecord& session);
 

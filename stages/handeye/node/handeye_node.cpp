@@ -63,19 +63,22 @@ void HandEyeNode::OnMotion(Bus& bus, const motion_t& motion) {
   if (other != others.end() && other->second.valid) StartRound(bus);
 }
 
+bool HandEyeNode::PairWithLidar(const motion_t& camera, MotionPair* pair) const {
+  const auto lidar = lidar_motions_.find({camera.station_i, camera.station_j});
+  if (!camera.valid || lidar == lidar_motions_.end() || !lidar->second.valid) return false;
+  pair->station_i = camera.station_i;
+  pair->station_j = camera.station_j;
+  pair->A = FromRowMajor(camera.T_i_j);
+  pair->B = FromRowMajor(lidar->second.T_i_j);
+  pair->camera_scaled = camera.scaled;
+  return true;
+}
+
 std::vector<MotionPair> HandEyeNode::ScalelessPairs() const {
   std::vector<MotionPair> pairs;
-  for (const auto& [key, camera] : camera_motions_) {
-    const auto lidar = lidar_motions_.find(key);
-    if (!camera.valid || lidar == lidar_motions_.end() || !lidar->second.valid) continue;
-    MotionPair p;
-    p.station_i = key.first;
-    p.station_j = key.second;
-    p.A = FromRowMajor(camera.T_i_j);
-    p.B = FromRowMajor(lidar->second.T_i_j);
-    p.camera_scaled = false;
-    pairs.push_back(p);
-  }
+  MotionPair p;
+  for (const auto& [key, camera] : camera_motions_)
+    if (PairWithLidar(camera, &p)) pairs.push_back(p);
   return pairs;
 }
 
@@ -122,21 +125,10 @@ void HandEyeNode::OnFusedMotions(Bus& bus, const motion_set_t& set) {
   std::string first_failure;
   int failed = 0;
   for (const auto& m : set.motions) {
-    const PairKey key{m.station_i, m.station_j};
-    if (!m.valid) {
-      ++failed;
-      if (first_failure.empty())
-        first_failure = std::to_string(m.station_i) + "-" + std::to_string(m.station_j) + ": " + m.failure_reason;
-    }
-    const auto lidar = lidar_motions_.find(key);
-    if (!m.valid || !m.scaled || lidar == lidar_motions_.end() || !lidar->second.valid) continue;
+    if (!m.valid && failed++ == 0)
+      first_failure = std::to_string(m.station_i) + "-" + std::to_string(m.station_j) + ": " + m.failure_reason;
     MotionPair p;
-    p.station_i = key.first;
-    p.station_j = key.second;
-    p.A = FromRowMajor(m.T_i_j);
-    p.B = FromRowMajor(lidar->second.T_i_j);
-    p.camera_scaled = true;
-    pairs.push_back(p);
+    if (m.scaled && PairWithLidar(m, &p)) pairs.push_back(p);
   }
   HandEyeResult result = SolveScaled(pairs, settings_.solver, &current_->T_camera_lidar);
   busy_s_ += Seconds(start);

@@ -52,6 +52,8 @@ class HandEyeNode : public StageNode {
   void StartRound(Bus& bus);
   void Publish(Bus& bus, const HandEyeResult& result, const std::string& status, double change, bool ask);
   std::vector<MotionPair> ScalelessPairs() const;
+  // The pair of a camera motion with the LiDAR motion of the same stations; false when either is bad.
+  bool PairWithLidar(const motion_t& camera, MotionPair* pair) const;
 
   HandEyeNodeSettings settings_;
   std::map<PairKey, motion_t> camera_motions_, lidar_motions_;
