@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "../runtime/process_utils.hpp"
@@ -116,6 +117,53 @@ TEST(HandEyeCommand, TooFewMotionsAndBadFilesFailClearly) {
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.output.find("header"), std::string::npos) << bad.output;
   EXPECT_EQ(RunCommand(kFusecal + " handeye --motions /nonexistent.csv --out " + out + " 2>&1").exit_code, 1);
+}
+
+const std::string kKitti = KITTI_SNIPPET_DIR;
+
+TEST(StageCommands, RegisterCameraMotionAndStationsOnKitti) {
+  if (access((kKitti + "/calib_velo_to_cam.txt").c_str(), F_OK) != 0)
+    GTEST_SKIP() << "KITTI snippet not found at " << kKitti << ": real-data check not run";
+  const std::string scans = kKitti + "/velodyne_points/data/", images = kKitti + "/image_02/data/";
+  const auto reg = RunCommand(kFusecal + " register " + scans + "0000000000.bin " + scans + "0000000004.bin");
+  ASSERT_EQ(reg.exit_code, 0) << reg.output;
+  const auto r = nlohmann::json::parse(reg.output);
+  EXPECT_EQ(r["T_a_b"].size(), 16u);
+  EXPECT_TRUE(r["converged"].get<bool>());
+  EXPECT_NEAR(r["T_a_b"][3].get<double>(), 0.98, 0.1) << "the car drove about 1 m forward (LiDAR x)";
+
+  const std::string camera = Temp("kitti-camera.yaml");
+  std::ofstream(camera) << "model: pinhole\nwidth: 1242\nheight: 375\nfx: 721.5377\nfy: 721.5377\n"
+                        << "cx: 609.5593\ncy: 172.854\n";
+  const auto cam = RunCommand(kFusecal + " camera-motion " + images + "0000000000.png " + images +
+                              "0000000004.png --camera " + camera);
+  ASSERT_EQ(cam.exit_code, 0) << cam.output;
+  const auto c = nlohmann::json::parse(cam.output);
+  EXPECT_GT(c["t_unit"][2].get<double>(), 0.99) << "forward along the camera's z axis";
+  EXPECT_GT(c["inliers"].get<int>(), 100);
+
+  const std::string log = Temp("kitti.lcmlog");
+  ASSERT_EQ(RunCommand(kFusecal + " import kitti " + kKitti + " --out " + log + " 2>&1").exit_code, 0);
+  const auto stations = RunCommand(kFusecal + " stations " + log + " 2>/dev/null");
+  ASSERT_EQ(stations.exit_code, 0);
+  std::istringstream lines(stations.output);
+  std::string line;
+  std::vector<nlohmann::json> found;
+  while (std::getline(lines, line)) found.push_back(nlohmann::json::parse(line));
+  ASSERT_EQ(found.size(), 1u) << stations.output << " (one stop, at the end of the drive)";
+  EXPECT_GE(found[0]["image_utime"].get<int64_t>(), found[0]["still_from"].get<int64_t>());
+}
+
+TEST(StageCommands, MissingFilesFailWithTheirName) {
+  const auto reg = RunCommand(kFusecal + " register /nonexistent/a.bin /nonexistent/b.bin 2>&1");
+  EXPECT_EQ(reg.exit_code, 1);
+  EXPECT_NE(reg.output.find("/nonexistent/a.bin"), std::string::npos) << reg.output;
+  const auto cam = RunCommand(kFusecal + " camera-motion /nonexistent/a.png /nonexistent/b.png --camera " +
+                              kScenarios + "/../pipeline.yaml 2>&1");
+  EXPECT_EQ(cam.exit_code, 1);
+  const auto st = RunCommand(kFusecal + " stations /nonexistent.lcmlog 2>&1");
+  EXPECT_EQ(st.exit_code, 1);
+  EXPECT_NE(st.output.find("cannot open"), std::string::npos) << st.output;
 }
 
 }  // namespace

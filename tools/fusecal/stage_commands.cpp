@@ -62,7 +62,9 @@ void AddStageCommands(CLI::App& app, int* exit_code) {
   reg->callback([exit_code] {
     Guard("register", exit_code, [] {
       const auto settings = ConfigOrDefault(register_config).lidar_icp.registration;
-      const auto r = lidar_icp::Register(ReadScan(scan_a), ReadScan(scan_b), settings);
+      const PointCloud a = ReadScan(scan_a);  // in order, so that a missing file is named first
+      const PointCloud b = ReadScan(scan_b);
+      const auto r = lidar_icp::Register(a, b, settings);
       OrderedJson line{{"T_a_b", RowMajor(r.T_li_lj)}, {"converged", r.converged}, {"fitness", r.fitness},
                        {"rmse_m", r.inlier_rms_m}, {"seconds", r.seconds}};
       if (!r.converged) line["reason"] = r.failure_reason;
@@ -79,7 +81,9 @@ void AddStageCommands(CLI::App& app, int* exit_code) {
   cam->callback([exit_code] {
     Guard("camera-motion", exit_code, [] {
       const auto camera = MakeCameraModel(LoadCameraFile(camera_path));
-      const auto r = EstimateRelativePose(ReadImage(image_a), ReadImage(image_b), *camera);
+      const cv::Mat a = ReadImage(image_a);
+      const cv::Mat b = ReadImage(image_b);
+      const auto r = EstimateRelativePose(a, b, *camera);
       std::vector<double> R(9), t{r.t_unit.x(), r.t_unit.y(), r.t_unit.z()};
       for (int i = 0; i < 9; ++i) R[i] = r.R(i / 3, i % 3);
       std::vector<std::string> flags;
