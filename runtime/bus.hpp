@@ -1,6 +1,6 @@
 // The message bus every process talks through (after Drake's DrakeLcmInterface): publish LCM-encoded
 // bytes on a channel, subscribe with a handler, dispatch with Handle(timeout). Implementations: LCM
-// (udpm://, memq://, file://) and, later, DDS. Typed Publish<M>/Subscribe<M> work for every lcm-gen type.
+// (udpm://, memq://, file://) and Cyclone DDS (dds://, runtime/dds/). Typed Publish<M>/Subscribe<M> work for every lcm-gen type.
 //
 // Handlers run inside Handle() on the caller's thread. An exception thrown by a handler is caught at the
 // transport boundary and rethrown from Handle(), so that errors are never swallowed inside C callbacks.

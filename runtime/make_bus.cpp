@@ -2,6 +2,9 @@
 
 #include "runtime/bus.hpp"
 #include "runtime/lcm_bus.hpp"
+#ifdef FUSECAL_WITH_DDS
+#include "runtime/dds/dds_bus.hpp"
+#endif
 
 namespace fusecal {
 
@@ -18,8 +21,17 @@ std::unique_ptr<Bus> MakeBus(const std::string& url) {
   const std::string scheme = chosen.substr(0, scheme_end);
   if (scheme == "udpm" || scheme == "memq" || scheme == "file" || scheme == "tcpq")
     return std::make_unique<LcmBus>(chosen);
+  if (scheme == "dds") {
+#ifdef FUSECAL_WITH_DDS
+    return std::make_unique<DdsBus>(chosen);
+#else
+    throw BusError("bus URL '" + chosen +
+                   "': this fusecal was built without DDS (install cyclonedds-dev and cyclonedds-tools, "
+                   "then reconfigure with -DFUSECAL_WITH_DDS=ON)");
+#endif
+  }
   throw BusError("bus URL '" + chosen + "': unknown transport '" + scheme +
-                 "' (expected udpm, memq, file or tcpq)");
+                 "' (expected udpm, memq, file, tcpq or dds)");
 }
 
 }  // namespace fusecal

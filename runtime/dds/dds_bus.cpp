@@ -1,0 +1,482 @@
+#include "runtime/dds/dds_bus.hpp"
+
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <map>
+#include <mutex>
+#include <regex>
+#include <vector>
+
+#include "dds/dds.h"
+#include "fusecal_bytes.h"
+
+namespace fusecal {
+
+namespace {
+
+constexpr const char* kTypeName = "fusecal::lcm_message";
+constexpr int kDefaultDepth = 16;
+constexpr int kTakeBatch = 64;
+// iceoryx aborts the process when a sample needs a chunk larger than RouDi's largest mempool (4 MiB in
+// RouDi's built-in configuration). Larger messages go through a KEEP_ALL writer, which Cyclone never
+// puts on shared memory, i.e. over the network path. shm_max= raises this for a RouDi configured with
+// larger chunks.
+constexpr long kDefaultShmMax = 4 * 1024 * 1024 - 4096;
+
+int64_t WallUtime() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+std::string DdsError(dds_return_t rc) { return dds_strretcode(rc < 0 ? -rc : rc); }
+
+// Cyclone configuration sized for 2-6 MB samples: 64 KB datagrams in ~62 KB fragments (a 6 MB image is
+// ~100 datagrams, not 4600 of 1344 B), a receive buffer as large as the kernel allows (up to 64 MB,
+// `fusecal doctor` raises net.core.rmem_max), and a writer history cache that holds a few images.
+std::string CycloneConfig(bool shm) {
+  std::string xml =
+      "<CycloneDDS><Domain id=\"any\">"
+      "<General><MaxMessageSize>65500B</MaxMessageSize>"
+      "<MaxRexmitMessageSize>65500B</MaxRexmitMessageSize>"
+      "<FragmentSize>62000B</FragmentSize></General>"
+      "<Internal><SocketReceiveBufferSize min=\"default\" max=\"64MiB\"/>"
+      "<SocketSendBufferSize min=\"default\" max=\"4MiB\"/>"
+      "<Watermarks><WhcHigh>64MiB</WhcHigh></Watermarks></Internal>";
+  if (shm) xml += "<SharedMemory><Enable>true</Enable><LogLevel>warn</LogLevel></SharedMemory>";
+  xml += "</Domain></CycloneDDS>";
+  // A user configuration ($CYCLONEDDS_URI: file URIs or XML) is applied on top of ours.
+  if (const char* env = std::getenv("CYCLONEDDS_URI"); env && *env) xml += std::string(",") + env;
+  return xml;
+}
+
+// Domains this process created with our configuration, shared by every DdsBus on that domain id and
+// deleted with the last one.
+struct DomainEntry {
+  dds_entity_t domain = 0;
+  int users = 0;
+  bool shm = false;
+};
+std::mutex g_domains_mutex;
+std::map<uint32_t, DomainEntry> g_domains;
+
+// LCM channel <-> DDS topic name: letters, digits, '_' and '/' are kept, other bytes become _xHH.
+std::string TopicName(const std::string& channel) {
+  std::string topic;
+  for (unsigned char c : channel) {
+    if (std::isalnum(c) || c == '_' || c == '/') {
+      topic += static_cast<char>(c);
+    } else {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "_x%02X", c);
+      topic += escaped;
+    }
+  }
+  if (topic.empty() || std::isdigit(static_cast<unsigned char>(topic[0]))) topic = "_" + topic;
+  return topic;
+}
+
+std::string ChannelName(const std::string& topic) {
+  std::string name = topic;
+  if (!name.empty() && name[0] == '_' && name.size() > 1 && std::isdigit(static_cast<unsigned char>(name[1])))
+    name.erase(0, 1);
+  std::string channel;
+  for (size_t i = 0; i < name.size(); ++i) {
+    if (name[i] == '_' && i + 3 < name.size() && name[i + 1] == 'x' && std::isxdigit(static_cast<unsigned char>(name[i + 2])) &&
+        std::isxdigit(static_cast<unsigned char>(name[i + 3]))) {
+      channel += static_cast<char>(std::stoi(name.substr(i + 2, 2), nullptr, 16));
+      i += 3;
+    } else {
+      channel += name[i];
+    }
+  }
+  return channel;
+}
+
+bool IsPlainName(const std::string& channel) {
+  return !channel.empty() && std::all_of(channel.begin(), channel.end(), [](unsigned char c) {
+    return std::isalnum(c) || c == '_' || c == '-' || c == '/';
+  });
+}
+
+int ParseInt(const std::string& url, const std::string& key, const std::string& value, int lo, int hi) {
+  try {
+    size_t used = 0;
+    const long v = std::stol(value, &used);
+    if (used == value.size() && v >= lo && v <= hi) return static_cast<int>(v);
+  } catch (const std::exception&) {
+  }
+  throw BusError("bus URL '" + url + "': " + key + "=" + value + " is not an integer in [" +
+                 std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+}  // namespace
+
+struct DdsBus::Impl {
+  struct Sub {
+    std::string pattern;
+    bool plain = true;
+    std::regex regex;
+    RawHandler handler;
+    bool active = true;
+    bool Matches(const std::string& channel) const {
+      return plain ? channel == pattern : std::regex_match(channel, regex);
+    }
+  };
+  struct Reader {
+    std::string channel;
+    dds_entity_t reader = 0;
+    dds_entity_t condition = 0;
+  };
+
+  std::string url;
+  uint32_t domain_id = 0;
+  int depth = kDefaultDepth;
+  bool shm_requested = false;
+  long shm_max = kDefaultShmMax;
+  bool shm = false;
+  bool owns_domain_ref = false;
+
+  dds_entity_t participant = 0;
+  dds_entity_t waitset = 0;
+  dds_entity_t publications = 0;  // DCPSPublication reader (for regex subscriptions)
+  dds_entity_t publications_condition = 0;
+  dds_qos_t* qos = nullptr;
+
+  std::mutex mutex;
+  std::map<std::string, dds_entity_t> topics;   // by channel
+  std::map<std::string, dds_entity_t> writers;  // by channel
+  std::map<std::string, dds_entity_t> large_writers;  // by channel, for samples over shm_max (shm only)
+  dds_qos_t* large_qos = nullptr;
+  std::map<std::string, std::shared_ptr<Reader>> readers;  // by channel
+  std::vector<std::shared_ptr<Sub>> subs;
+  std::exception_ptr pending_error;
+
+  ~Impl() {
+    if (participant > 0) dds_delete(participant);  // deletes every child entity
+    if (qos) dds_delete_qos(qos);
+    if (large_qos) dds_delete_qos(large_qos);
+    if (owns_domain_ref) {
+      std::lock_guard<std::mutex> lock(g_domains_mutex);
+      auto it = g_domains.find(domain_id);
+      if (it != g_domains.end() && --it->second.users == 0) {
+        dds_delete(it->second.domain);
+        g_domains.erase(it);
+      }
+    }
+  }
+
+  dds_entity_t TopicLocked(const std::string& channel) {
+    auto it = topics.find(channel);
+    if (it != topics.end()) return it->second;
+    const std::string name = TopicName(channel);
+    const dds_entity_t topic = dds_create_topic(participant, &fusecal_lcm_message_desc, name.c_str(), nullptr, nullptr);
+    if (topic < 0)
+      throw BusError("DDS: cannot create topic '" + name + "' for channel " + channel + " on " + url + ": " +
+                     DdsError(topic));
+    topics[channel] = topic;
+    return topic;
+  }
+
+  void EnsureReaderLocked(const std::string& channel) {
+    if (readers.count(channel)) return;
+    auto reader = std::make_shared<Reader>();
+    reader->channel = channel;
+    reader->reader = dds_create_reader(participant, TopicLocked(channel), qos, nullptr);
+    if (reader->reader < 0)
+      throw BusError("DDS: cannot create a reader for channel " + channel + " on " + url + ": " +
+                     DdsError(reader->reader));
+    reader->condition = dds_create_readcondition(reader->reader, DDS_ANY_STATE);
+    if (reader->condition < 0 || dds_waitset_attach(waitset, reader->condition, 0) < 0)
+      throw BusError("DDS: cannot wait on the reader for channel " + channel + " on " + url);
+    readers[channel] = std::move(reader);
+  }
+
+  // A topic of our type exists (a local or discovered writer): read it if a pattern wants it.
+  void OnTopicLocked(const std::string& channel) {
+    if (readers.count(channel)) return;
+    for (const auto& sub : subs)
+      if (sub->active && sub->Matches(channel)) return EnsureReaderLocked(channel);
+  }
+
+  void EnsurePublicationsReaderLocked() {
+    if (publications > 0) return;
+    dds_qos_t* builtin_qos = dds_create_qos();
+    dds_qset_history(builtin_qos, DDS_HISTORY_KEEP_ALL, 0);
+    publications = dds_create_reader(participant, DDS_BUILTIN_TOPIC_DCPSPUBLICATION, builtin_qos, nullptr);
+    dds_delete_qos(builtin_qos);
+    if (publications < 0)
+      throw BusError("DDS: cannot read DCPSPublication on " + url + ": " + DdsError(publications));
+    publications_condition = dds_create_readcondition(publications, DDS_ANY_STATE);
+    if (publications_condition < 0 || dds_waitset_attach(waitset, publications_condition, 0) < 0)
+      throw BusError("DDS: cannot wait on DCPSPublication on " + url);
+  }
+
+  // Creates readers for the topics of writers seen since the last call. Returns whether any was read.
+  bool ScanPublicationsLocked() {
+    if (publications <= 0) return false;
+    void* samples[kTakeBatch] = {nullptr};
+    dds_sample_info_t infos[kTakeBatch];
+    bool any = false;
+    for (;;) {
+      const int n = dds_take(publications, samples, infos, kTakeBatch, kTakeBatch);
+      if (n <= 0) break;
+      any = true;
+      std::vector<std::string> channels;
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        const auto* endpoint = static_cast<const dds_builtintopic_endpoint_t*>(samples[i]);
+        if (endpoint->type_name && endpoint->topic_name && std::strcmp(endpoint->type_name, kTypeName) == 0)
+          channels.push_back(ChannelName(endpoint->topic_name));
+      }
+      dds_return_loan(publications, samples, n);
+      for (const auto& channel : channels) OnTopicLocked(channel);
+      if (n < kTakeBatch) break;
+    }
+    return any;
+  }
+
+  // Takes every queued sample and hands it to the matching handlers. Returns the handler calls.
+  int Drain() {
+    std::vector<std::shared_ptr<Reader>> snapshot;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      ScanPublicationsLocked();
+      for (auto& [channel, reader] : readers) snapshot.push_back(reader);
+    }
+    int delivered = 0;
+    void* samples[kTakeBatch];
+    dds_sample_info_t infos[kTakeBatch];
+    for (const auto& reader : snapshot) {
+      while (!pending_error) {
+        std::fill(std::begin(samples), std::end(samples), nullptr);
+        const int n = dds_take(reader->reader, samples, infos, kTakeBatch, kTakeBatch);
+        if (n <= 0) break;
+        std::vector<std::shared_ptr<Sub>> matching;
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          for (const auto& sub : subs)
+            if (sub->active && sub->Matches(reader->channel)) matching.push_back(sub);
+        }
+        for (int i = 0; i < n && !pending_error; ++i) {
+          if (!infos[i].valid_data) continue;
+          const auto* message = static_cast<const fusecal_lcm_message*>(samples[i]);
+          const int64_t receive_utime = WallUtime();  // when this bus took it (LCM: when it was read)
+          const RawMessage raw{reader->channel, message->data._buffer, message->data._length, receive_utime};
+          for (const auto& sub : matching) {
+            if (!sub->active) continue;  // unsubscribed by an earlier handler
+            ++delivered;
+            try {
+              sub->handler(raw);
+            } catch (...) {
+              pending_error = std::current_exception();  // the first error wins
+              break;
+            }
+          }
+        }
+        dds_return_loan(reader->reader, samples, n);
+        if (n < kTakeBatch) break;
+      }
+    }
+    return delivered;
+  }
+};
+
+DdsBus::DdsBus(const std::string& url) : impl_(std::make_shared<Impl>()) {
+  Impl& d = *impl_;
+  d.url = url;
+  if (url.rfind("dds://", 0) != 0) throw BusError("bus URL '" + url + "' is not a dds:// URL");
+  std::string rest = url.substr(6);
+  const auto question = rest.find('?');
+  const std::string host = rest.substr(0, question);
+  if (!host.empty() && host != "/")
+    throw BusError("bus URL '" + url + "': DDS takes no address ('" + host +
+                   "'); use dds://?domain=N&shm=0|1&depth=N");
+  if (question != std::string::npos) {
+    std::string query = rest.substr(question + 1);
+    size_t pos = 0;
+    while (pos <= query.size()) {
+      const size_t amp = std::min(query.find('&', pos), query.size());
+      const std::string item = query.substr(pos, amp - pos);
+      pos = amp + 1;
+      if (item.empty()) continue;
+      const auto eq = item.find('=');
+      const std::string key = item.substr(0, eq);
+      const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
+      if (key == "domain")
+        d.domain_id = static_cast<uint32_t>(ParseInt(url, key, value, 0, 232));
+      else if (key == "shm")
+        d.shm_requested = ParseInt(url, key, value, 0, 1) == 1;
+      else if (key == "depth")
+        d.depth = ParseInt(url, key, value, 1, 100000);
+      else if (key == "shm_max")
+        d.shm_max = ParseInt(url, key, value, 1024, 2147483647);
+      else
+        throw BusError("bus URL '" + url + "': unknown parameter '" + key +
+                       "' (DDS takes domain=, shm=, shm_max= and depth=)");
+    }
+  }
+
+  d.shm = d.shm_requested;
+  if (d.shm && !RoudiRunning()) {
+    std::fprintf(stderr,
+                 "fusecal: %s: shm=1 but no iceoryx RouDi is running (start iox-roudi); using the "
+                 "network path instead of shared memory\n",
+                 url.c_str());
+    d.shm = false;
+  }
+
+  {
+    std::lock_guard<std::mutex> lock(g_domains_mutex);
+    auto it = g_domains.find(d.domain_id);
+    if (it == g_domains.end()) {
+      const std::string config = CycloneConfig(d.shm);
+      const dds_entity_t domain = dds_create_domain(d.domain_id, config.c_str());
+      if (domain > 0) {
+        it = g_domains.emplace(d.domain_id, DomainEntry{domain, 0, d.shm}).first;
+      } else if (domain != DDS_RETCODE_PRECONDITION_NOT_MET) {  // not: created outside DdsBus
+        throw BusError("DDS: cannot create domain " + std::to_string(d.domain_id) + " for " + url + ": " +
+                       DdsError(domain));
+      }
+    }
+    if (it != g_domains.end()) {
+      ++it->second.users;
+      d.owns_domain_ref = true;
+      if (it->second.shm != d.shm) {
+        std::fprintf(stderr, "fusecal: %s: DDS domain %u is already open in this process with shm=%d; using that\n",
+                     url.c_str(), d.domain_id, it->second.shm ? 1 : 0);
+        d.shm = it->second.shm;
+      }
+    }
+  }
+
+  d.participant = dds_create_participant(d.domain_id, nullptr, nullptr);
+  if (d.participant < 0)
+    throw BusError("DDS: cannot create a participant on domain " + std::to_string(d.domain_id) + " for " +
+                   url + ": " + DdsError(d.participant));
+  d.waitset = dds_create_waitset(d.participant);
+  if (d.waitset < 0) throw BusError("DDS: cannot create a waitset for " + url);
+
+  d.qos = dds_create_qos();
+  dds_qset_reliability(d.qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  dds_qset_history(d.qos, DDS_HISTORY_KEEP_LAST, d.depth);
+  dds_qset_durability(d.qos, DDS_DURABILITY_VOLATILE);
+  d.large_qos = dds_create_qos();
+  dds_copy_qos(d.large_qos, d.qos);
+  dds_qset_history(d.large_qos, DDS_HISTORY_KEEP_ALL, 0);
+}
+
+DdsBus::~DdsBus() = default;
+
+std::string DdsBus::url() const { return impl_->url; }
+
+bool DdsBus::shared_memory() const { return impl_->shm; }
+
+bool DdsBus::RoudiRunning() {
+  // iceoryx 2.x: RouDi listens on the unix datagram socket /tmp/roudi (IPC_CHANNEL_ROUDI_NAME). A stale
+  // socket file left by a dead RouDi refuses the connection.
+  const int fd = socket(AF_UNIX, SOCK_DGRAM, 0);
+  if (fd < 0) return false;
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::strncpy(address.sun_path, "/tmp/roudi", sizeof(address.sun_path) - 1);
+  const bool running = connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
+  close(fd);
+  return running;
+}
+
+void DdsBus::PublishRaw(const std::string& channel, const void* data, size_t size) {
+  Impl& d = *impl_;
+  if (size > 0xffffffffu) throw BusError("DDS: message on channel " + channel + " is too large");
+  dds_entity_t writer;
+  {
+    std::lock_guard<std::mutex> lock(d.mutex);
+    const bool large = d.shm && static_cast<long>(size) + 1024 > d.shm_max;
+    auto& writers = large ? d.large_writers : d.writers;
+    auto it = writers.find(channel);
+    if (it == writers.end()) {
+      // A pattern subscription of this bus must read the channel before the first sample is written.
+      d.OnTopicLocked(channel);
+      writer = dds_create_writer(d.participant, d.TopicLocked(channel), large ? d.large_qos : d.qos, nullptr);
+      if (writer < 0)
+        throw BusError("DDS: cannot create a writer for channel " + channel + " on " + d.url + ": " +
+                       DdsError(writer));
+      writers[channel] = writer;
+    } else {
+      writer = it->second;
+    }
+  }
+  fusecal_lcm_message message{};
+  message.channel = const_cast<char*>(channel.c_str());
+  message.utime = WallUtime();
+  message.data._maximum = message.data._length = static_cast<uint32_t>(size);
+  message.data._buffer = static_cast<uint8_t*>(const_cast<void*>(data));
+  message.data._release = false;
+  const dds_return_t rc = dds_write(writer, &message);
+  if (rc < 0)
+    throw BusError("DDS publish failed on channel " + channel + " (" + std::to_string(size) + " bytes) over " +
+                   d.url + ": " + DdsError(rc));
+}
+
+Subscription DdsBus::SubscribeRaw(const std::string& channel, RawHandler handler) {
+  Impl& d = *impl_;
+  auto sub = std::make_shared<Impl::Sub>();
+  sub->pattern = channel;
+  sub->plain = IsPlainName(channel);
+  if (!sub->plain) {
+    try {
+      sub->regex = std::regex(channel, std::regex::ECMAScript);
+    } catch (const std::regex_error& e) {
+      throw BusError("DDS subscribe: '" + channel + "' is not a valid regular expression: " + e.what());
+    }
+  }
+  sub->handler = std::move(handler);
+  {
+    std::lock_guard<std::mutex> lock(d.mutex);
+    d.subs.push_back(sub);
+    if (sub->plain) {
+      d.EnsureReaderLocked(channel);
+    } else {
+      d.EnsurePublicationsReaderLocked();
+      for (const auto& [name, topic] : d.topics) d.OnTopicLocked(name);
+      d.ScanPublicationsLocked();
+    }
+  }
+  std::weak_ptr<Impl> weak = impl_;
+  return Subscription([weak, sub]() {
+    sub->active = false;
+    auto impl = weak.lock();
+    if (!impl) return;
+    std::lock_guard<std::mutex> lock(impl->mutex);
+    impl->subs.erase(std::remove(impl->subs.begin(), impl->subs.end(), sub), impl->subs.end());
+  });
+}
+
+int DdsBus::Handle(int timeout_ms) {
+  Impl& d = *impl_;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(std::max(timeout_ms, 0));
+  int delivered = 0;
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline - std::chrono::steady_clock::now());
+    const dds_return_t rc = dds_waitset_wait(d.waitset, nullptr, 0, std::max<int64_t>(left.count(), 0));
+    if (rc < 0) throw BusError("DDS waitset failed on " + d.url + ": " + DdsError(rc));
+    delivered += d.Drain();
+    if (d.pending_error) {
+      std::exception_ptr error = d.pending_error;
+      d.pending_error = nullptr;
+      std::rethrow_exception(error);
+    }
+    // A discovery event alone (no message yet) keeps waiting until the deadline.
+    if (delivered > 0 || std::chrono::steady_clock::now() >= deadline) return delivered;
+  }
+}
+
+}  // namespace fusecal
