@@ -6,20 +6,12 @@
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/conversions.hpp"
+#include "sample_messages.hpp"
 
 namespace fusecal {
 namespace {
 
-status_t MakeStatus(const std::string& name) {
-  status_t s{};
-  s.utime = 123;
-  s.name = name;
-  s.state = "running";
-  s.num_counters = 1;
-  s.counter_names = {"stations"};
-  s.counter_values = {4};
-  return s;
-}
+using testing_utils::MakeStatus;
 
 TEST(MemqBus, TypedRoundTrip) {
   auto bus = MakeBus("memq://");

@@ -16,22 +16,14 @@
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/conversions.hpp"
+#include "sample_messages.hpp"
 
 namespace fusecal {
 namespace {
 
 const std::string kUrl = std::getenv("FUSECAL_DDS_TEST_URL") ? std::getenv("FUSECAL_DDS_TEST_URL") : "dds://?domain=17";
 
-status_t MakeStatus(const std::string& name) {
-  status_t s{};
-  s.utime = 123;
-  s.name = name;
-  s.state = "running";
-  s.num_counters = 1;
-  s.counter_names = {"stations"};
-  s.counter_values = {4};
-  return s;
-}
+using testing_utils::MakeStatus;
 
 TEST(DdsBus, TypedRoundTrip) {
   auto bus = MakeBus(kUrl);
