@@ -368,10 +368,15 @@ DdsBus::DdsBus(const std::string& url) : impl_(std::make_shared<Impl>()) {
   d.qos = dds_create_qos();
   dds_qset_reliability(d.qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
   dds_qset_history(d.qos, DDS_HISTORY_KEEP_LAST, d.depth);
-  dds_qset_durability(d.qos, DDS_DURABILITY_VOLATILE);
+  // Over the network path, writers keep their last `depth` samples for readers that match later
+  // (transient-local): DDS discovery takes a moment, and a volatile writer would drop the first message
+  // of a new channel (the first STATION) before a remote reader is matched. Over shared memory the
+  // large-message writer keeps all history, which must stay volatile, and readers must match it.
+  dds_qset_durability(d.qos, d.shm ? DDS_DURABILITY_VOLATILE : DDS_DURABILITY_TRANSIENT_LOCAL);
   d.large_qos = dds_create_qos();
   dds_copy_qos(d.large_qos, d.qos);
   dds_qset_history(d.large_qos, DDS_HISTORY_KEEP_ALL, 0);
+  dds_qset_durability(d.large_qos, DDS_DURABILITY_VOLATILE);
 }
 
 DdsBus::~DdsBus() = default;

@@ -72,6 +72,19 @@ TEST_F(Pipeline, SeparateProcessesOverUdpAgreeWithCalibrate) {
   EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << run.output;
 }
 
+#ifdef FUSECAL_WITH_DDS
+TEST_F(Pipeline, SeparateProcessesOverDdsAgreeWithCalibrate) {
+  const auto run = RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus 'dds://?domain=23' --out " +
+                              Temp("run-dds") + " 2>&1");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto eval = RunCommand(kFusecal + " evaluate --result " + Temp("run-dds") + "/extrinsic.yaml --truth " +
+                               Temp("cal1") + "/extrinsic.yaml");
+  const auto j = nlohmann::json::parse(eval.output);
+  EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << run.output;
+  EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << run.output;
+}
+#endif
+
 TEST_F(Pipeline, StageKilledWithSigkillIsRestartedAndTheAnswerStays) {
   const std::string out = Temp("killed");
   // Its own port: the stage processes are found by it ("[f]" keeps pgrep from matching itself).
