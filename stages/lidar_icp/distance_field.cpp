@@ -83,17 +83,8 @@ DistanceField::DistanceField(const std::vector<Eigen::Vector3f>& points, float r
 float DistanceField::Score(const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
                            const std::vector<Eigen::Vector3f>& points) const {
   if (cells_.empty() || points.empty()) return 0.0f;
-  const float inv = 1.0f / resolution_;
-  const Eigen::Matrix3f Rs = R * inv;
-  const Eigen::Vector3f ts = (t - origin_) * inv;
   int32_t sum = 0;
-  for (const Eigen::Vector3f& p : points) {
-    const Eigen::Vector3f c = Rs * p + ts;
-    const int x = static_cast<int>(c.x()), y = static_cast<int>(c.y()), z = static_cast<int>(c.z());
-    // c may be negative: int() truncates toward zero, so also reject c < 0 explicitly.
-    if (c.x() < 0 || c.y() < 0 || c.z() < 0 || x >= nx_ || y >= ny_ || z >= nz_) continue;
-    sum += cells_[(size_t(z) * ny_ + size_t(y)) * nx_ + size_t(x)];
-  }
+  ForEachCell(R, t, points, [&sum](int8_t v) { sum += v; });
   return float(sum) / (float(kMax) * float(points.size()));
 }
 
@@ -101,18 +92,11 @@ DistanceField::Tally DistanceField::Evaluate(const Eigen::Matrix3f& R, const Eig
                                             const std::vector<Eigen::Vector3f>& points) const {
   Tally tally;
   if (cells_.empty() || points.empty()) return tally;
-  const float inv = 1.0f / resolution_;
-  const Eigen::Matrix3f Rs = R * inv;
-  const Eigen::Vector3f ts = (t - origin_) * inv;
   int32_t sum = 0;
-  for (const Eigen::Vector3f& p : points) {
-    const Eigen::Vector3f c = Rs * p + ts;
-    const int x = static_cast<int>(c.x()), y = static_cast<int>(c.y()), z = static_cast<int>(c.z());
-    if (c.x() < 0 || c.y() < 0 || c.z() < 0 || x >= nx_ || y >= ny_ || z >= nz_) continue;
-    const int8_t v = cells_[(size_t(z) * ny_ + size_t(y)) * nx_ + size_t(x)];
+  ForEachCell(R, t, points, [&](int8_t v) {
     sum += v;
     tally.observed += v != 0;
-  }
+  });
   tally.sum = float(sum) / float(kMax);
   return tally;
 }

@@ -39,6 +39,23 @@ class DistanceField {
                  const std::vector<Eigen::Vector3f>& points) const;
 
  private:
+  // Calls visit(cell value) for every point that (R, t) maps inside the grid. Inlined into both
+  // callers, so the global search's hot loop stays a plain loop.
+  template <typename Visit>
+  void ForEachCell(const Eigen::Matrix3f& R, const Eigen::Vector3f& t, const std::vector<Eigen::Vector3f>& points,
+                   Visit visit) const {
+    const float inv = 1.0f / resolution_;
+    const Eigen::Matrix3f Rs = R * inv;
+    const Eigen::Vector3f ts = (t - origin_) * inv;
+    for (const Eigen::Vector3f& p : points) {
+      const Eigen::Vector3f c = Rs * p + ts;
+      const int x = static_cast<int>(c.x()), y = static_cast<int>(c.y()), z = static_cast<int>(c.z());
+      // c may be negative: int() truncates toward zero, so also reject c < 0 explicitly.
+      if (c.x() < 0 || c.y() < 0 || c.z() < 0 || x >= nx_ || y >= ny_ || z >= nz_) continue;
+      visit(cells_[(size_t(z) * ny_ + size_t(y)) * nx_ + size_t(x)]);
+    }
+  }
+
   float resolution_;
   float truncation_;
   Eigen::Vector3f origin_;
