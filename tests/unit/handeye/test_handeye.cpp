@@ -132,6 +132,14 @@ struct Coverage {
   double Trans() const { return double(trans_in) / n; }
 };
 
+// An honest 1-sigma: about 68% of per-axis errors inside it, for rotation and translation alike.
+void ExpectAbout68Percent(const Coverage& c) {
+  EXPECT_GT(c.Rot(), 0.55);
+  EXPECT_LT(c.Rot(), 0.80);
+  EXPECT_GT(c.Trans(), 0.55);
+  EXPECT_LT(c.Trans(), 0.80);
+}
+
 TEST(HandEyeUncertainty, ScaledOneSigmaCoverageIsAbout68Percent) {
   Coverage c;
   for (int k = 0; k < 200; ++k) {
@@ -140,10 +148,7 @@ TEST(HandEyeUncertainty, ScaledOneSigmaCoverageIsAbout68Percent) {
     ASSERT_EQ(r.observability, handeye_observability::kOk) << r.message;
     c.Add(r, data.T_camera_lidar);
   }
-  EXPECT_GT(c.Rot(), 0.55);
-  EXPECT_LT(c.Rot(), 0.80);
-  EXPECT_GT(c.Trans(), 0.55);
-  EXPECT_LT(c.Trans(), 0.80);
+  ExpectAbout68Percent(c);
   std::cout << "scaled coverage: rotation " << c.Rot() << ", translation " << c.Trans() << "\n";
 }
 
@@ -157,10 +162,7 @@ TEST(HandEyeUncertainty, ScalelessOneSigmaCoverageIsAbout68Percent) {
     ASSERT_EQ(r.observability, handeye_observability::kOk) << r.message;
     c.Add(r, data.T_camera_lidar);
   }
-  EXPECT_GT(c.Rot(), 0.55);
-  EXPECT_LT(c.Rot(), 0.80);
-  EXPECT_GT(c.Trans(), 0.55);
-  EXPECT_LT(c.Trans(), 0.80);
+  ExpectAbout68Percent(c);
   std::cout << "scaleless coverage: rotation " << c.Rot() << ", translation " << c.Trans() << "\n";
 }
 
@@ -173,10 +175,7 @@ TEST(HandEyeUncertainty, ScaledWithInputCovariancesIsHonest) {
     const HandEyeResult r = SolveScaled(data.pairs);
     c.Add(r, data.T_camera_lidar);
   }
-  EXPECT_GT(c.Rot(), 0.55);
-  EXPECT_LT(c.Rot(), 0.80);
-  EXPECT_GT(c.Trans(), 0.55);
-  EXPECT_LT(c.Trans(), 0.80);
+  ExpectAbout68Percent(c);
 }
 
 // --- Degenerate sets -----------------------------------------------------------------------------------------
