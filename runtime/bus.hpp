@@ -67,6 +67,10 @@ class Bus {
   // replayed log). Rethrows the first exception thrown by a handler.
   virtual int Handle(int timeout_ms) = 0;
 
+  // Messages this bus knows it lost on the way in (gaps in the publishers' sequence numbers, a full
+  // reader queue). 0 where the transport cannot tell (LCM). Stages report it in STATUS as bus_dropped.
+  virtual uint64_t dropped_messages() const { return 0; }
+
   template <typename M>
   void Publish(const std::string& channel, const M& message) {
     std::vector<uint8_t> buffer(message.getEncodedSize());

@@ -5,31 +5,44 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <map>
+#include <set>
 #include <mutex>
 #include <regex>
+#include <thread>
 #include <vector>
 
 #include "dds/dds.h"
 #include "fusecal_bytes.h"
+#include "runtime/channels.hpp"
+#include "runtime/shared_memory.hpp"
 
 namespace fusecal {
 
 namespace {
 
 constexpr const char* kTypeName = "fusecal::lcm_message";
-constexpr int kDefaultDepth = 16;
+constexpr int kDefaultDepth = 64;      // small channels: STATUS, motions, EXTRINSIC, ...
+constexpr int kDefaultBulkDepth = 8;   // images, scans, stations
 constexpr int kTakeBatch = 64;
+constexpr int kNewWriterWaitMs = 250;  // > RouDi's discovery interval (100 ms in iceoryx 2.0)
 // iceoryx aborts the process when a sample needs a chunk larger than RouDi's largest mempool (4 MiB in
-// RouDi's built-in configuration). Larger messages go through a KEEP_ALL writer, which Cyclone never
-// puts on shared memory, i.e. over the network path. shm_max= raises this for a RouDi configured with
-// larger chunks.
-constexpr long kDefaultShmMax = 4 * 1024 * 1024 - 4096;
+// RouDi's built-in configuration). Larger messages go through a writer with a deadline, which Cyclone
+// never puts on shared memory, i.e. over the network path. shm_max= raises this for a RouDi configured
+// with larger chunks (`fusecal run` sets it from the pools it gives RouDi).
+constexpr long kDefaultShmMax = 4 * 1024 * 1024 - static_cast<long>(shm::kChunkOverheadBytes);
+
+// Channels of multi-megabyte messages: their history holds `bulk_depth` samples (each a 2-16 MB chunk
+// in shared memory), the others `depth`.
+bool IsBulkChannel(const std::string& channel) {
+  return channel == channels::kCameraImage || channel == channels::kLidarScan || channel == channels::kStation;
+}
 
 int64_t WallUtime() {
   return std::chrono::duration_cast<std::chrono::microseconds>(
@@ -140,6 +153,7 @@ struct DdsBus::Impl {
   std::string url;
   uint32_t domain_id = 0;
   int depth = kDefaultDepth;
+  int bulk_depth = kDefaultBulkDepth;
   bool shm_requested = false;
   long shm_max = kDefaultShmMax;
   bool shm = false;
@@ -149,13 +163,18 @@ struct DdsBus::Impl {
   dds_entity_t waitset = 0;
   dds_entity_t publications = 0;  // DCPSPublication reader (for regex subscriptions)
   dds_entity_t publications_condition = 0;
-  dds_qos_t* qos = nullptr;
+  dds_qos_t* qos = nullptr;       // small channels
+  dds_qos_t* bulk_qos = nullptr;  // IsBulkChannel
 
   std::mutex mutex;
   std::map<std::string, dds_entity_t> topics;   // by channel
   std::map<std::string, dds_entity_t> writers;  // by channel
   std::map<std::string, dds_entity_t> large_writers;  // by channel, for samples over shm_max (shm only)
   dds_qos_t* large_qos = nullptr;
+  std::map<dds_entity_t, uint64_t> sent;                // by writer: the last sequence number written
+  std::set<std::string> large_notice_given;             // channels whose large samples were announced
+  std::map<dds_instance_handle_t, uint64_t> last_seen;  // by remote writer: the last sequence number read
+  std::atomic<uint64_t> dropped{0};
   std::map<std::string, std::shared_ptr<Reader>> readers;  // by channel
   std::vector<std::shared_ptr<Sub>> subs;
   std::exception_ptr pending_error;
@@ -163,6 +182,7 @@ struct DdsBus::Impl {
   ~Impl() {
     if (participant > 0) dds_delete(participant);  // deletes every child entity
     if (qos) dds_delete_qos(qos);
+    if (bulk_qos) dds_delete_qos(bulk_qos);
     if (large_qos) dds_delete_qos(large_qos);
     if (owns_domain_ref) {
       std::lock_guard<std::mutex> lock(g_domains_mutex);
@@ -171,6 +191,18 @@ struct DdsBus::Impl {
         dds_delete(it->second.domain);
         g_domains.erase(it);
       }
+    }
+  }
+
+  const dds_qos_t* QosFor(const std::string& channel) const { return IsBulkChannel(channel) ? bulk_qos : qos; }
+
+  // Sequence numbers count per writer from 1: a gap means samples were overwritten in a history (KEEP_LAST
+  // under overload) or dropped from a full shared-memory queue before this reader took them.
+  void CountGap(dds_instance_handle_t writer, uint64_t sequence) {
+    auto [it, first] = last_seen.emplace(writer, sequence);
+    if (!first) {
+      if (sequence > it->second + 1) dropped += sequence - it->second - 1;
+      it->second = std::max(it->second, sequence);
     }
   }
 
@@ -190,7 +222,7 @@ struct DdsBus::Impl {
     if (readers.count(channel)) return;
     auto reader = std::make_shared<Reader>();
     reader->channel = channel;
-    reader->reader = dds_create_reader(participant, TopicLocked(channel), qos, nullptr);
+    reader->reader = dds_create_reader(participant, TopicLocked(channel), QosFor(channel), nullptr);
     if (reader->reader < 0)
       throw BusError("DDS: cannot create a reader for channel " + channel + " on " + url + ": " +
                      DdsError(reader->reader));
@@ -269,6 +301,7 @@ struct DdsBus::Impl {
         for (int i = 0; i < n && !pending_error; ++i) {
           if (!infos[i].valid_data) continue;
           const auto* message = static_cast<const fusecal_lcm_message*>(samples[i]);
+          CountGap(infos[i].publication_handle, message->seq_number);
           const int64_t receive_utime = WallUtime();  // when this bus took it (LCM: when it was read)
           const RawMessage raw{reader->channel, message->data._buffer, message->data._length, receive_utime};
           for (const auto& sub : matching) {
@@ -316,17 +349,19 @@ DdsBus::DdsBus(const std::string& url) : impl_(std::make_shared<Impl>()) {
       else if (key == "shm")
         d.shm_requested = ParseInt(url, key, value, 0, 1) == 1;
       else if (key == "depth")
-        d.depth = ParseInt(url, key, value, 1, 100000);
+        d.depth = ParseInt(url, key, value, 1, 256);  // iceoryx caps a subscriber queue at 256
+      else if (key == "bulk_depth")
+        d.bulk_depth = ParseInt(url, key, value, 1, 256);
       else if (key == "shm_max")
         d.shm_max = ParseInt(url, key, value, 1024, 2147483647);
       else
         throw BusError("bus URL '" + url + "': unknown parameter '" + key +
-                       "' (DDS takes domain=, shm=, shm_max= and depth=)");
+                       "' (DDS takes domain=, shm=, shm_max=, depth= and bulk_depth=)");
     }
   }
 
   d.shm = d.shm_requested;
-  if (d.shm && !RoudiRunning()) {
+  if (d.shm && !shm::RoudiRunning()) {
     std::fprintf(stderr,
                  "fusecal: %s: shm=1 but no iceoryx RouDi is running (start iox-roudi); using the "
                  "network path instead of shared memory\n",
@@ -365,18 +400,25 @@ DdsBus::DdsBus(const std::string& url) : impl_(std::make_shared<Impl>()) {
   d.waitset = dds_create_waitset(d.participant);
   if (d.waitset < 0) throw BusError("DDS: cannot create a waitset for " + url);
 
+  // One QoS for every participant of a domain, with or without shared memory, so that all endpoints
+  // match (a transient-local reader does not match a volatile writer).
   d.qos = dds_create_qos();
   dds_qset_reliability(d.qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
   dds_qset_history(d.qos, DDS_HISTORY_KEEP_LAST, d.depth);
-  // Over the network path, writers keep their last `depth` samples for readers that match later
-  // (transient-local): DDS discovery takes a moment, and a volatile writer would drop the first message
-  // of a new channel (the first STATION) before a remote reader is matched. Over shared memory the
-  // large-message writer keeps all history, which must stay volatile, and readers must match it.
-  dds_qset_durability(d.qos, d.shm ? DDS_DURABILITY_VOLATILE : DDS_DURABILITY_TRANSIENT_LOCAL);
+  // Volatile: a reader gets what is written after it matched. Transient-local would hand a reader that
+  // joins late (a restarted stage) the writer's last sample ahead of the stations it is given again,
+  // out of order (measured: ICP then paired station 1 with 0). The first sample of a new writer is
+  // protected by the wait in PublishRaw instead.
+  dds_qset_durability(d.qos, DDS_DURABILITY_VOLATILE);
+  d.bulk_qos = dds_create_qos();
+  dds_copy_qos(d.bulk_qos, d.qos);
+  dds_qset_history(d.bulk_qos, DDS_HISTORY_KEEP_LAST, d.bulk_depth);
+  // Messages larger than the biggest shared-memory chunk: the same QoS plus a (never missed in practice)
+  // deadline, which Cyclone 0.10 does not put on shared memory, so they take the network path. The
+  // deadline is compatible with every reader (they request none).
   d.large_qos = dds_create_qos();
-  dds_copy_qos(d.large_qos, d.qos);
-  dds_qset_history(d.large_qos, DDS_HISTORY_KEEP_ALL, 0);
-  dds_qset_durability(d.large_qos, DDS_DURABILITY_VOLATILE);
+  dds_copy_qos(d.large_qos, d.bulk_qos);
+  dds_qset_deadline(d.large_qos, DDS_SECS(24 * 3600));
 }
 
 DdsBus::~DdsBus() = default;
@@ -385,43 +427,52 @@ std::string DdsBus::url() const { return impl_->url; }
 
 bool DdsBus::shared_memory() const { return impl_->shm; }
 
-bool DdsBus::RoudiRunning() {
-  // iceoryx 2.x: RouDi listens on the unix datagram socket /tmp/roudi (IPC_CHANNEL_ROUDI_NAME). A stale
-  // socket file left by a dead RouDi refuses the connection.
-  const int fd = socket(AF_UNIX, SOCK_DGRAM, 0);
-  if (fd < 0) return false;
-  sockaddr_un address{};
-  address.sun_family = AF_UNIX;
-  std::strncpy(address.sun_path, "/tmp/roudi", sizeof(address.sun_path) - 1);
-  const bool running = connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
-  close(fd);
-  return running;
-}
+bool DdsBus::RoudiRunning() { return shm::RoudiRunning(); }
+
+uint64_t DdsBus::dropped_messages() const { return impl_->dropped.load(); }
 
 void DdsBus::PublishRaw(const std::string& channel, const void* data, size_t size) {
   Impl& d = *impl_;
   if (size > 0xffffffffu) throw BusError("DDS: message on channel " + channel + " is too large");
   dds_entity_t writer;
+  bool new_writer = false;
   {
     std::lock_guard<std::mutex> lock(d.mutex);
-    const bool large = d.shm && static_cast<long>(size) + 1024 > d.shm_max;
+    const bool large = d.shm && static_cast<long>(size) > d.shm_max;
+    if (large && d.large_notice_given.insert(channel).second)
+      std::fprintf(stderr,
+                   "fusecal: %s: a %zu-byte message on %s is larger than the biggest shared-memory chunk "
+                   "carries (shm_max=%ld); such messages go over the network path (raise bus.max_message_bytes "
+                   "so that RouDi's pools hold them)\n",
+                   d.url.c_str(), size, channel.c_str(), d.shm_max);
     auto& writers = large ? d.large_writers : d.writers;
     auto it = writers.find(channel);
     if (it == writers.end()) {
       // A pattern subscription of this bus must read the channel before the first sample is written.
       d.OnTopicLocked(channel);
-      writer = dds_create_writer(d.participant, d.TopicLocked(channel), large ? d.large_qos : d.qos, nullptr);
+      writer = dds_create_writer(d.participant, d.TopicLocked(channel), large ? d.large_qos : d.QosFor(channel),
+                                 nullptr);
       if (writer < 0)
         throw BusError("DDS: cannot create a writer for channel " + channel + " on " + d.url + ": " +
                        DdsError(writer));
       writers[channel] = writer;
+      new_writer = true;
     } else {
       writer = it->second;
     }
   }
+  // A new writer reaches the readers that exist only once they know of it: over the network path when
+  // its discovery message has arrived, over shared memory when RouDi's discovery loop (every 100 ms) has
+  // connected the iceoryx ports. A sample written before that is lost to them. Measured: without this
+  // wait the first LIDAR_MOTION of a run over shared memory never reached the hand-eye stage.
+  if (new_writer) std::this_thread::sleep_for(std::chrono::milliseconds(kNewWriterWaitMs));
   fusecal_lcm_message message{};
   message.channel = const_cast<char*>(channel.c_str());
   message.utime = WallUtime();
+  {
+    std::lock_guard<std::mutex> lock(d.mutex);
+    message.seq_number = ++d.sent[writer];
+  }
   message.data._maximum = message.data._length = static_cast<uint32_t>(size);
   message.data._buffer = static_cast<uint8_t*>(const_cast<void*>(data));
   message.data._release = false;

@@ -1,22 +1,36 @@
-// Bus over DDS (Eclipse Cyclone DDS): dds://?domain=0&shm=1&depth=16 (shm_max= also).
+// Bus over DDS (Eclipse Cyclone DDS): dds://?domain=0&shm=1&depth=64&bulk_depth=8 (shm_max= also).
 //
 // Every LCM channel is its own DDS topic whose samples (fusecal::lcm_message, fusecal_bytes.idl) carry
-// the channel, the publish utime and the LCM-encoded bytes, so schemas, logs and tools stay LCM.
-// QoS: reliable, volatile, KEEP_LAST `depth` (default 16). Writers are created on the first publish
-// to a channel; readers on subscription: a plain channel name gets its reader at once, a regular
-// expression gets readers for matching topics as their writers are discovered (DCPSPublication,
-// local writers included). As with LCM, messages sent before a reader exists are not delivered.
+// the channel, the publish utime, a per-writer sequence number and the LCM-encoded bytes, so schemas,
+// logs and tools stay LCM. Writers are created on the first publish to a channel; readers on
+// subscription: a plain channel name gets its reader at once, a regular expression gets readers for
+// matching topics as their writers are discovered (DCPSPublication, local writers included).
+//
+// QoS and what it drops (the consequences, written down):
+// - Reliable, KEEP_LAST: `bulk_depth` samples on CAMERA_IMAGE, LIDAR_SCAN, STATION, `depth` on the
+//   others. A writer never blocks: under overload the oldest unacknowledged samples of its history
+//   are overwritten (network path), and over shared memory a reader queue holds `depth` samples and
+//   drops its oldest when full (iceoryx does not enforce RELIABLE). Either way the pipeline's reader
+//   sees a gap in the writer's sequence numbers: dropped_messages() counts them, and every stage
+//   reports the count as `bus_dropped` in STATUS. A raw-stream frame lost this way costs the
+//   stationarity detector a sample; a lost STATION costs a motion (the stages say which is missing).
+// - Durability: volatile, as LCM: a reader gets what is written after it matched (a restarted stage
+//   is given the stations again by `fusecal run`; transient-local would hand it the writer's last
+//   sample first, out of order). A new writer waits 250 ms before its first sample so that existing
+//   readers know of it (discovery; RouDi connects shared-memory ports every 100 ms): otherwise the
+//   first message on a channel is lost. Publishing to a new channel therefore costs 250 ms once.
 //
 // URL parameters:
-//   domain=N   DDS domain id (default 0)
-//   shm=0|1    use iceoryx shared memory (default 0). Needs a running RouDi (iox-roudi); without one
-//              the bus says so on stderr and uses the network path (Cyclone would otherwise wait 60 s
-//              and abort the process).
-//   shm_max=N  with shared memory, messages over N bytes (default just under 4 MiB, the largest chunk
-//              of RouDi's built-in mempools; iceoryx aborts the process on a sample with no fitting
-//              chunk) are sent by a KEEP_ALL writer, which Cyclone keeps on the network path. Raise it
-//              only together with RouDi's mempool configuration (roudi_config.toml).
-//   depth=N    KEEP_LAST history depth per channel (default 16)
+//   domain=N      DDS domain id (default 0)
+//   shm=0|1       use iceoryx shared memory (default 0). Needs a running RouDi (iox-roudi; `fusecal
+//                 run` starts one); without one the bus says so on stderr and uses the network path
+//                 (Cyclone would otherwise wait 60 s and abort the process).
+//   shm_max=N     with shared memory, messages over N bytes (default just under 4 MiB, the largest
+//                 chunk of RouDi's built-in mempools; iceoryx aborts the process on a sample with no
+//                 fitting chunk) are sent by a writer with a deadline, which Cyclone keeps on the network
+//                 path, with one line on stderr. `fusecal run` sets it from the pools it gives RouDi.
+//   depth=N       KEEP_LAST history depth of small channels (default 64, at most 256)
+//   bulk_depth=N  KEEP_LAST history depth of image, scan and station channels (default 8)
 // The Cyclone configuration is generated (large socket receive buffer, 64 KB datagrams) so that
 // 2-6 MB images survive; $CYCLONEDDS_URI, when set, is applied on top of it.
 #pragma once
@@ -40,6 +54,7 @@ class DdsBus : public Bus {
   void PublishRaw(const std::string& channel, const void* data, size_t size) override;
   Subscription SubscribeRaw(const std::string& channel, RawHandler handler) override;
   int Handle(int timeout_ms) override;
+  uint64_t dropped_messages() const override;
 
   // Whether shared memory is in use (false when shm=0, or when shm=1 fell back for lack of RouDi).
   bool shared_memory() const;

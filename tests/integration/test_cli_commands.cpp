@@ -26,6 +26,18 @@ std::string ReadAll(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
+#ifdef FUSECAL_WITH_DDS
+// For a shared-memory DDS URL the doctor reports /dev/shm against RouDi's pools and whether RouDi is up,
+// and the round trip works either way (without RouDi over the network path).
+TEST(DoctorCommand, ChecksDevShmAndRoudiForSharedMemory) {
+  const auto doctor = RunCommand(kFusecal + " doctor --bus 'dds://?domain=27&shm=1' 2>&1");
+  EXPECT_NE(doctor.output.find("/dev/shm: "), std::string::npos) << doctor.output;
+  EXPECT_NE(doctor.output.find("RouDi's pools need"), std::string::npos) << doctor.output;
+  EXPECT_NE(doctor.output.find("iceoryx RouDi: "), std::string::npos) << doctor.output;
+  EXPECT_NE(doctor.output.find("a 1 MB message went round"), std::string::npos) << doctor.output;
+}
+#endif
+
 TEST(SimulateCommand, SameSeedSameBytesOtherSeedOtherBytes) {
   const std::string a = Temp("a.lcmlog"), b = Temp("b.lcmlog"), c = Temp("c.lcmlog");
   const std::string base = kFusecal + " simulate --scenario " + kScenarios + "/tiny-equirect.yaml";

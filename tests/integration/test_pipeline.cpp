@@ -15,6 +15,7 @@
 #include "common/extrinsic_error.hpp"
 #include "runtime/ground_truth.hpp"
 #include "runtime/result_file.hpp"
+#include "runtime/shared_memory.hpp"
 
 namespace fusecal {
 namespace {
@@ -82,6 +83,77 @@ TEST_F(Pipeline, SeparateProcessesOverDdsAgreeWithCalibrate) {
   const auto j = nlohmann::json::parse(eval.output);
   EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << run.output;
   EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << run.output;
+}
+
+// Over iceoryx shared memory: `fusecal run` starts RouDi itself, and stops it at the end.
+TEST_F(Pipeline, SeparateProcessesOverSharedMemoryAgreeWithCalibrate) {
+  const auto run = RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus 'dds://?domain=24&shm=1' --out " +
+                              Temp("run-shm") + " 2>&1");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("shared memory: started iox-roudi"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("messages lost by the bus: 0"), std::string::npos) << run.output;
+  EXPECT_FALSE(shm::RoudiRunning()) << "RouDi outlived the run";
+  const auto eval = RunCommand(kFusecal + " evaluate --result " + Temp("run-shm") + "/extrinsic.yaml --truth " +
+                               Temp("cal1") + "/extrinsic.yaml");
+  const auto j = nlohmann::json::parse(eval.output);
+  EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << run.output;
+  EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << run.output;
+}
+
+// /dev/shm cannot hold the pools (here: a config asking for 1.3 TB of them): the run says so before
+// anything is started, uses DDS's network path, and still finishes with the same answer.
+TEST_F(Pipeline, SharedMemoryThatDoesNotFitFallsBackToTheNetworkPath) {
+  std::string config = ReadAll(kScenarios + "/../pipeline.yaml");
+  const auto at = config.find("shm_chunks: 32");
+  ASSERT_NE(at, std::string::npos);
+  config.replace(at, 14, "shm_chunks: 100000");
+  const std::string config_path = Temp("huge-pools.yaml");
+  std::ofstream(config_path) << config;
+  const auto run = RunCommand(kFusecal + " run --config " + config_path + " --log " + log_ +
+                              " --speed 0 --bus 'dds://?domain=25&shm=1' --out " + Temp("run-noshm") + " 2>&1");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("shared memory unavailable: /dev/shm has"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("network path"), std::string::npos) << run.output;
+  EXPECT_FALSE(shm::RoudiRunning()) << "RouDi was started anyway";
+  const auto eval = RunCommand(kFusecal + " evaluate --result " + Temp("run-noshm") + "/extrinsic.yaml --truth " +
+                               Temp("cal1") + "/extrinsic.yaml");
+  const auto j = nlohmann::json::parse(eval.output);
+  EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << run.output;
+}
+
+// RouDi killed in the middle of the run: stopping or losing RouDi ends (or cuts off) every stage
+// attached to it; the supervisor starts RouDi and all stages again, and the answer stays the same.
+TEST_F(Pipeline, RoudiKilledMidRunComesBackWithTheStagesAndTheAnswerStays) {
+  const std::string out = Temp("roudi-killed");
+  const std::string command =
+      kFusecal + " run --log " + log_ + " --speed 0 --bus 'dds://?domain=26&shm=1' --out " + out;
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const std::string redirected = command + " > " + out + ".txt 2>&1";
+    execl("/bin/sh", "sh", "-c", redirected.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Kill RouDi once the stages are up and the first motions are out.
+  bool killed = false;
+  for (int i = 0; i < 400 && !killed; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (ReadAll(out + ".txt").find("motions lidar 1") == std::string::npos) continue;
+    killed = RunCommand("pkill -9 -x iox-roudi").exit_code == 0;
+  }
+  ASSERT_TRUE(killed) << "RouDi or the first motion never appeared:\n" << ReadAll(out + ".txt");
+  int status = 0;
+  waitpid(pid, &status, 0);
+  const std::string output = ReadAll(out + ".txt");
+  EXPECT_NE(output.find("iox-roudi exited"), std::string::npos) << output;
+  EXPECT_NE(output.find("every stage restarted after RouDi"), std::string::npos) << output;
+  EXPECT_NE(output.find("RouDi restarts: 1"), std::string::npos) << output;
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+  const auto eval = RunCommand(kFusecal + " evaluate --result " + out + "/extrinsic.yaml --truth " + Temp("cal1") +
+                               "/extrinsic.yaml");
+  const auto j = nlohmann::json::parse(eval.output);
+  EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << output;
+  EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << output;
 }
 #endif
 

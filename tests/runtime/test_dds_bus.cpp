@@ -1,5 +1,6 @@
-// The DDS bus (dds://), over Cyclone DDS on a test-only domain (17). Every test must finish in seconds.
-// FUSECAL_DDS_TEST_URL overrides the URL, e.g. 'dds://?domain=17&shm=1' with iox-roudi running.
+// The DDS bus (dds://), over Cyclone DDS. Every test must finish in seconds. Built twice: test_dds_bus
+// uses the network path on domain 17; test_dds_bus_shm (FUSECAL_DDS_TEST_SHM) starts a RouDi with pools
+// for 8 MB messages and runs the same tests over shared memory on domain 18, plus its own.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,12 +17,38 @@
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/conversions.hpp"
+#include "runtime/dds/dds_bus.hpp"
+#include "runtime/shared_memory.hpp"
 #include "sample_messages.hpp"
 
 namespace fusecal {
 namespace {
 
-const std::string kUrl = std::getenv("FUSECAL_DDS_TEST_URL") ? std::getenv("FUSECAL_DDS_TEST_URL") : "dds://?domain=17";
+#ifdef FUSECAL_DDS_TEST_SHM
+// Pools for 8 MB messages; shm_max tells the bus what fits (as `fusecal run` does).
+const shm::PoolPlan kPlan = shm::PlanPools(8u << 20, 16);
+const std::string kUrl = "dds://?domain=18&shm=1&shm_max=" + std::to_string(shm::LargestShmMessage(kPlan));
+
+// The RouDi of this test run (the echo peer process uses its parent's).
+class RoudiEnvironment : public testing::Environment {
+ public:
+  void SetUp() override {
+    if (std::getenv("FUSECAL_DDS_ECHO_PEER")) return;
+    ASSERT_TRUE(shm::WaitUntilRoudiGone()) << "another RouDi is running on this machine; stop it to run these tests";
+    roudi_ = std::make_unique<shm::RoudiProcess>(testing::TempDir() + "fusecal_dds_roudi_" + std::to_string(getpid()), kPlan);
+    roudi_->Start();
+  }
+  // This process is attached to RouDi, and stopping RouDi would end it: RouDi ends when it exits.
+  void TearDown() override {
+    if (roudi_) roudi_->LeaveUntilExit();
+  }
+
+ private:
+  std::unique_ptr<shm::RoudiProcess> roudi_;
+};
+#else
+const std::string kUrl = "dds://?domain=17";
+#endif
 
 using testing_utils::MakeStatus;
 
@@ -148,8 +175,10 @@ TEST(DdsBus, RejectsBadUrls) {
   EXPECT_THROW(MakeBus("dds://somehost?domain=17"), BusError);
 }
 
+#ifndef FUSECAL_DDS_TEST_SHM
 TEST(DdsBus, SharedMemoryWithoutRoudiFallsBackQuickly) {
   // Needs no RouDi on this machine; with one running the bus would use shared memory instead.
+  ASSERT_TRUE(shm::WaitUntilRoudiGone()) << "a RouDi is running on this machine; stop it to run this test";
   testing::internal::CaptureStderr();
   const auto start = std::chrono::steady_clock::now();
   std::unique_ptr<Bus> bus;
@@ -162,7 +191,6 @@ TEST(DdsBus, SharedMemoryWithoutRoudiFallsBackQuickly) {
   const std::string err = testing::internal::GetCapturedStderr();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_LT(seconds, 5.0);
-  if (err.find("RouDi") == std::string::npos) GTEST_SKIP() << "a RouDi is running here";
   EXPECT_NE(err.find("shm=1 but no iceoryx RouDi is running"), std::string::npos) << err;
   EXPECT_NE(err.find("network path"), std::string::npos) << err;
   // ...and the bus works.
@@ -171,6 +199,47 @@ TEST(DdsBus, SharedMemoryWithoutRoudiFallsBackQuickly) {
   bus->PublishRaw("SHM_FALLBACK", "x", 1);
   for (int i = 0; i < 20 && count == 0; ++i) bus->Handle(100);
   EXPECT_EQ(count, 1);
+}
+
+#else
+TEST(DdsBus, UsesSharedMemoryWhenRoudiRuns) {
+  DdsBus bus(kUrl);
+  EXPECT_TRUE(bus.shared_memory());
+}
+
+TEST(DdsBus, MessageLargerThanTheBiggestChunkTakesTheNetworkPathAndSaysSo) {
+  // shm_max below the message: without the network path iceoryx would abort ("no fitting mempool").
+  DdsBus bus("dds://?domain=18&shm=1&shm_max=1048576");
+  std::vector<uint8_t> big(3 << 20);
+  for (size_t i = 0; i < big.size(); ++i) big[i] = static_cast<uint8_t>(i * 7);
+  std::vector<uint8_t> received;
+  auto sub = bus.SubscribeRaw("HUGE", [&](const RawMessage& m) { received.assign(m.data, m.data + m.size); });
+  testing::internal::CaptureStderr();
+  bus.PublishRaw("HUGE", big.data(), big.size());
+  bus.PublishRaw("HUGE", big.data(), big.size());
+  const std::string err = testing::internal::GetCapturedStderr();
+  for (int i = 0; i < 30 && received.empty(); ++i) bus.Handle(100);
+  EXPECT_TRUE(received == big);
+  EXPECT_NE(err.find("larger than the biggest shared-memory chunk"), std::string::npos) << err;
+  EXPECT_EQ(err.find("HUGE"), err.rfind("HUGE")) << "said once per channel: " << err;
+}
+#endif
+
+TEST(DdsBus, LostMessagesShowAsSequenceGaps) {
+  // A reader that does not keep up with a KEEP_LAST history of 4 loses the older samples; the bus
+  // counts them from the writer's sequence numbers (stages report it as bus_dropped).
+  auto bus = MakeBus(kUrl + "&depth=4");
+  int count = 0;
+  auto sub = bus->SubscribeRaw("FLOOD", [&](const RawMessage&) { ++count; });
+  bus->PublishRaw("FLOOD", "x", 1);
+  for (int i = 0; i < 20 && count == 0; ++i) bus->Handle(100);
+  ASSERT_EQ(count, 1);
+  EXPECT_EQ(bus->dropped_messages(), 0u);
+  for (int i = 0; i < 100; ++i) bus->PublishRaw("FLOOD", "y", 1);
+  usleep(200000);
+  for (int i = 0; i < 5; ++i) bus->Handle(50);
+  EXPECT_EQ(count, 1 + 4);
+  EXPECT_EQ(bus->dropped_messages(), 96u);
 }
 
 // Across processes (the network path, not in-process delivery): this executable runs itself as an echo
@@ -252,3 +321,11 @@ TEST(DdsBus, CrossProcessSixMegabyteRoundTrip) {
 
 }  // namespace
 }  // namespace fusecal
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+#ifdef FUSECAL_DDS_TEST_SHM
+  testing::AddGlobalTestEnvironment(new fusecal::RoudiEnvironment);
+#endif
+  return RUN_ALL_TESTS();
+}

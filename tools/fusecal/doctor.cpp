@@ -1,7 +1,6 @@
 #include "doctor.hpp"
 
 #include <net/if.h>
-#include <sys/statvfs.h>
 
 #include <cstdlib>
 #include <fstream>
@@ -9,6 +8,8 @@
 #include <sstream>
 
 #include "runtime/bus.hpp"
+#include "runtime/bus_url.hpp"
+#include "runtime/shared_memory.hpp"
 
 namespace fusecal {
 
@@ -103,23 +104,41 @@ DoctorFinding CheckReceiveBuffer(const std::string& url) {
   return f;
 }
 
+// /dev/shm must hold RouDi's pools for the default configuration (the shared-memory transport only).
 DoctorFinding CheckSharedMemory() {
   DoctorFinding f;
   f.check = "/dev/shm";
-  struct statvfs st {};
-  if (statvfs("/dev/shm", &st) != 0) {
-    f.ok = false;
-    f.detail = "/dev/shm is missing (needed by the shared-memory transport only)";
-    f.fix = "mount -t tmpfs -o size=2g tmpfs /dev/shm";
-    return f;
-  }
-  const double gib = double(st.f_blocks) * st.f_frsize / (1024.0 * 1024.0 * 1024.0);
-  f.ok = gib >= 1.0;
+  const shm::PoolPlan plan = shm::PlanPools(shm::kDefaultMaxMessageBytes, shm::kDefaultBulkChunks);
+  const shm::ShmSpace space = shm::QueryShmSpace();
+  const std::string problem = shm::CheckPlanFits(plan, space);
   std::ostringstream detail;
   detail.precision(2);
-  detail << std::fixed << gib << " GiB (the shared-memory transport needs about 1 GiB)";
-  f.detail = detail.str();
+  detail << std::fixed << double(space.free_bytes) / double(1u << 30) << " GiB free; RouDi's pools need "
+         << double(plan.total_bytes() + shm::kRoudiManagementBytes) / double(1u << 30)
+         << " GiB (dds://?shm=1 only)";
+  f.ok = problem.empty();
+  f.detail = f.ok ? detail.str() : problem;
   if (!f.ok) f.fix = "mount -o remount,size=2g /dev/shm";
+  return f;
+}
+
+// Whether an iceoryx RouDi is up; `fusecal run` starts its own, stand-alone stages need one.
+DoctorFinding CheckRoudi(const std::string& url) {
+  DoctorFinding f;
+  f.check = "iceoryx RouDi";
+  const bool wanted = IsSharedMemoryDdsUrl(url);
+  const bool running = shm::RoudiRunning();
+  if (shm::RoudiExecutable().empty()) {
+    f.ok = !wanted;
+    f.detail = "iox-roudi is not installed (shared memory is unavailable; dds://?shm=1 uses the network path)";
+    if (wanted) f.fix = "apt-get install iceoryx";
+    return f;
+  }
+  f.detail = running ? "running (socket /tmp/roudi)"
+                     : std::string("not running") +
+                           (wanted ? ": `fusecal run` starts its own; stand-alone stages with shm=1 would use "
+                                     "the network path"
+                                   : " (needed by dds://?shm=1 only)");
   return f;
 }
 
@@ -147,17 +166,6 @@ DoctorFinding CheckLiveRoundTrip(const std::string& url) {
 
 }  // namespace
 
-std::string UrlParameter(const std::string& url, const std::string& key) {
-  const auto query = url.find('?');
-  if (query == std::string::npos) return {};
-  std::istringstream params(url.substr(query + 1));
-  std::string item;
-  while (std::getline(params, item, '&')) {
-    const auto eq = item.find('=');
-    if (eq != std::string::npos && item.substr(0, eq) == key) return item.substr(eq + 1);
-  }
-  return {};
-}
 
 std::vector<DoctorFinding> RunDoctor(const std::string& bus_url, bool apply_fixes) {
   const std::string url = bus_url.empty() ? DefaultBusUrl() : bus_url;
@@ -169,6 +177,7 @@ std::vector<DoctorFinding> RunDoctor(const std::string& bus_url, bool apply_fixe
       findings.push_back(CheckReceiveBuffer(url));
     }
     findings.push_back(CheckSharedMemory());
+    findings.push_back(CheckRoudi(url));
     return findings;
   };
   std::vector<DoctorFinding> findings = run_checks();
@@ -183,7 +192,8 @@ std::vector<DoctorFinding> RunDoctor(const std::string& bus_url, bool apply_fixe
     }
     findings = run_checks();
   }
-  if (multicast || url.rfind("memq://", 0) == 0) findings.push_back(CheckLiveRoundTrip(url));
+  if (multicast || url.rfind("memq://", 0) == 0 || url.rfind("dds://", 0) == 0)
+    findings.push_back(CheckLiveRoundTrip(url));
   return findings;
 }
 

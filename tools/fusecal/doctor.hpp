@@ -18,7 +18,4 @@ struct DoctorFinding {
 // commands first (needs root) and then checks again.
 std::vector<DoctorFinding> RunDoctor(const std::string& bus_url, bool apply_fixes);
 
-// The value of `key=` in the query of a URL, or empty.
-std::string UrlParameter(const std::string& url, const std::string& key);
-
 }  // namespace fusecal

@@ -47,7 +47,10 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
       std::cout << SummaryText(report.outputs, options.out_dir);
       std::cout << std::fixed << std::setprecision(2) << "time: " << report.total_seconds << " s total;";
       for (const auto& [stage, seconds] : report.stage_seconds) std::cout << " " << stage << " " << seconds << " s";
-      std::cout << "; stage restarts: " << report.restarts << "\n";
+      std::cout << "; stage restarts: " << report.restarts;
+      if (report.roudi_restarts > 0) std::cout << "; RouDi restarts: " << report.roudi_restarts;
+      if (report.used_dds) std::cout << "; messages lost by the bus: " << report.bus_dropped;
+      std::cout << "\n";
       *exit_code = report.outputs.final_result.status == "converged" ? 0 : 1;
     } catch (const std::exception& e) {
       std::cerr << "\nfusecal run: " << e.what() << "\n";

@@ -8,6 +8,10 @@ PipelineConfig LoadPipelineConfig(const std::string& path) {
   ConfigReader root = ConfigReader::FromFile(path);
   ConfigReader bus = root.Child("bus");
   bus.Get("url", &c.bus_url);
+  double max_message_mb = double(c.max_message_bytes) / 1e6;
+  bus.Get("max_message_mb", &max_message_mb, Positive<double>());
+  c.max_message_bytes = static_cast<size_t>(max_message_mb * 1e6);
+  bus.Get("shm_chunks", &c.shm_chunks, Positive<int>());
   bus.Finish();
   root.Get("stations_from", &c.stations_from, OneOf({"auto", "detector", "log"}));
   c.stationarity = ReadStationarityNodeSettings(root.Child("stationarity"));

@@ -9,6 +9,7 @@
 #include "fusecal/station_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "pipeline/session.hpp"
+#include "pipeline/shm_transport.hpp"
 #include "pipeline/supervisor.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
@@ -59,7 +60,9 @@ RunReport RunPipeline(const PipelineConfig& config, const RunOptions& options, c
                                                    : options.bus_url;
   const bool use_detector = config.stations_from == "detector" ||
                             (config.stations_from == "auto" && (options.log_path.empty() || !LogHasStations(options.log_path)));
-  auto bus = MakeBus(url);
+  // With shm=1, RouDi is started here and the coordinator stays on the network path (shm_transport.hpp).
+  SharedMemoryTransport transport(url, config, options.out_dir, event);
+  auto bus = MakeBus(transport.coordinator_url());
   SessionRecord session(*bus, options.out_dir + "/session.lcmlog", true);
   PipelineWatch watch(*bus);
 
@@ -69,7 +72,7 @@ RunReport RunPipeline(const PipelineConfig& config, const RunOptions& options, c
   for (const auto& name : names) {
     std::string exe = name;
     std::replace(exe.begin(), exe.end(), '_', '-');
-    supervisor.Add({name, ExecutableDir() + "/fusecal-" + exe, {"--config", config.path, "--bus", url}});
+    supervisor.Add({name, ExecutableDir() + "/fusecal-" + exe, {"--config", config.path, "--bus", transport.stage_url()}});
   }
   supervisor.StartAll();
   RunReport report;
@@ -85,6 +88,13 @@ RunReport RunPipeline(const PipelineConfig& config, const RunOptions& options, c
         bus->Handle(20);
       } catch (const std::exception& e) {
         event(std::string("bus: ") + e.what());
+      }
+      // RouDi gone: its stages were ended with it (or are cut off from the new one): all start again.
+      if (const std::string before = transport.stage_url(); transport.RestartIfDead()) {
+        supervisor.ReplaceArgument(before, transport.stage_url());
+        supervisor.RestartAll();
+        report.restarts += static_cast<int>(names.size());
+        event("every stage restarted after RouDi; they get the stations again once they are up");
       }
       for (const auto& e : supervisor.Poll()) {
         ++report.restarts;
@@ -173,7 +183,12 @@ RunReport RunPipeline(const PipelineConfig& config, const RunOptions& options, c
     pump(1e9, nullptr);
   }
   for (const auto& [name, seconds] : session.stage_busy_s()) report.stage_seconds[name] = seconds;
+  report.used_dds = url.rfind("dds://", 0) == 0;
+  report.bus_dropped = static_cast<double>(bus->dropped_messages());
+  for (const auto& [name, dropped] : session.stage_bus_dropped()) report.bus_dropped += dropped;
   supervisor.Stop();
+  transport.Stop();  // after the stages: stopping RouDi ends whatever is still attached to it
+  report.roudi_restarts = transport.roudi_restarts();
   bus->Handle(0);
   session.Close();
   report.outputs = WriteCalibrationOutputs(session, options.out_dir);

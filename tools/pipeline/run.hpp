@@ -26,6 +26,9 @@ struct RunOptions {
 struct RunReport {
   CalibrationOutputs outputs;
   int restarts = 0;
+  int roudi_restarts = 0;  // shared memory only: times RouDi was started again
+  bool used_dds = false;
+  double bus_dropped = 0;  // messages the buses of the stages and the coordinator know they lost (DDS)
   double total_seconds = 0;
   std::map<std::string, double> stage_seconds;
 };

@@ -34,6 +34,8 @@ class SessionRecord {
   // Latest STATUS per stage name: state and last error.
   const std::map<std::string, std::pair<std::string, std::string>>& stage_states() const { return stage_states_; }
   const std::map<std::string, double>& stage_busy_s() const { return stage_busy_s_; }
+  // Messages each stage's bus knows it lost (STATUS counter bus_dropped; DDS only).
+  const std::map<std::string, double>& stage_bus_dropped() const { return stage_bus_dropped_; }
 
   // The latest EXTRINSIC, and the latest scaleless ("initial") one.
   const extrinsic_t* Final() const;
@@ -51,6 +53,7 @@ class SessionRecord {
   int64_t last_news_utime_ = 0;
   std::map<std::string, std::pair<std::string, std::string>> stage_states_;
   std::map<std::string, double> stage_busy_s_;
+  std::map<std::string, double> stage_bus_dropped_;
 };
 
 // True when the log carries STATION messages among its first 500 events (a stop-and-scan dataset or

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <stdexcept>
@@ -62,25 +63,44 @@ std::vector<std::string> Supervisor::Poll() {
   return events;
 }
 
+void Supervisor::RestartAll() {
+  for (auto& p : processes_) {
+    if (p.pid > 0) {
+      kill(p.pid, SIGKILL);
+      Reap(p, 5);
+    }
+    ++p.restarts;
+    Launch(p);
+  }
+}
+
+void Supervisor::ReplaceArgument(const std::string& from, const std::string& to) {
+  for (auto& p : processes_) std::replace(p.args.begin(), p.args.end(), from, to);
+}
+
+// Waits for a signalled stage to exit; SIGKILL once `grace_s` has passed.
+void Supervisor::Reap(StageProcess& p, double grace_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(grace_s);
+  while (p.pid > 0) {
+    int status = 0;
+    if (waitpid(p.pid, &status, WNOHANG) == p.pid) break;
+    if (std::chrono::steady_clock::now() > deadline) {
+      kill(p.pid, SIGKILL);
+      waitpid(p.pid, &status, 0);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  p.pid = -1;
+}
+
 void Supervisor::Stop() {
   for (auto& p : processes_)
     if (p.pid > 0) kill(p.pid, SIGTERM);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  const auto start = std::chrono::steady_clock::now();
   for (auto& p : processes_) {
-    while (p.pid > 0) {
-      int status = 0;
-      if (waitpid(p.pid, &status, WNOHANG) == p.pid) {
-        p.pid = -1;
-        break;
-      }
-      if (std::chrono::steady_clock::now() > deadline) {
-        kill(p.pid, SIGKILL);
-        waitpid(p.pid, &status, 0);
-        p.pid = -1;
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
+    const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    Reap(p, std::max(0.0, 5.0 - spent));
   }
 }
 

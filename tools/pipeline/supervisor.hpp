@@ -27,11 +27,16 @@ class Supervisor {
   void StartAll();
   // Restarts stages that have exited; returns a line for each restart.
   std::vector<std::string> Poll();
+  // Ends every stage (SIGKILL) and starts it again, e.g. after the RouDi they were attached to died.
+  void RestartAll();
+  // Replaces an argument of every stage from its next start on (e.g. the bus URL).
+  void ReplaceArgument(const std::string& from, const std::string& to);
   void Stop();
   const std::vector<StageProcess>& processes() const { return processes_; }
 
  private:
   void Launch(StageProcess& p);
+  static void Reap(StageProcess& p, double grace_s);
   std::string log_dir_;
   std::vector<StageProcess> processes_;
 };
