@@ -1,6 +1,7 @@
 #include "runtime/shared_memory.hpp"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/prctl.h>
 #include <signal.h>
 #include <sys/socket.h>
@@ -10,6 +11,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
@@ -114,6 +116,22 @@ bool RoudiRunning() {
   return running;
 }
 
+namespace {
+
+// RouDi holds an exclusive flock on this file from its start until its process has ended, which is
+// later than its socket closes: a new RouDi started in between aborts (ROUDI_STILL_RUNNING). Probing
+// takes the lock for an instant, so it is used only while waiting for a RouDi to go, never while one
+// is starting.
+bool RoudiLockHeld() {
+  const int fd = open("/tmp/iox-unique-roudi.lock", O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool held = flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  close(fd);  // releases the lock if the probe got it
+  return held;
+}
+
+}  // namespace
+
 std::string RoudiExecutable() {
   for (const char* candidate : {"/usr/bin/iox-roudi", "/usr/local/bin/iox-roudi"})
     if (access(candidate, X_OK) == 0) return candidate;
@@ -126,12 +144,12 @@ RoudiProcess::RoudiProcess(std::string work_dir, PoolPlan plan)
 RoudiProcess::~RoudiProcess() { Stop(); }
 
 void RoudiProcess::Start(double timeout_s) {
-  const std::string exe = RoudiExecutable();
-  if (exe.empty())
+  exe_ = RoudiExecutable();
+  if (exe_.empty())
     throw std::runtime_error("iox-roudi is not installed (Debian package iceoryx: tools/setup installs it)");
   if (const std::string problem = CheckPlanFits(plan_, QueryShmSpace()); !problem.empty())
     throw std::runtime_error(problem);
-  if (RoudiRunning())
+  if (!WaitUntilRoudiGone(3))  // (one told to stop just now takes a moment to end)
     throw std::runtime_error("a RouDi that fusecal did not start is already running (socket /tmp/roudi); "
                              "stop it, or run without shm=1");
   std::filesystem::create_directories(work_dir_);
@@ -140,6 +158,21 @@ void RoudiProcess::Start(double timeout_s) {
     config << RoudiConfigToml(plan_);
     if (!config) throw std::runtime_error("cannot write " + config_path());
   }
+  // A RouDi that ended a moment ago can still hold its lock when the new one looks (measured once in a
+  // run whose RouDi was SIGKILLed): the new one then aborts with ROUDI_STILL_RUNNING, and is retried.
+  for (int attempt = 1;; ++attempt) {
+    if (Launch(timeout_s)) {
+      ++starts_;
+      return;
+    }
+    const std::string tail = FileTail(log_path(), 1500);
+    if (attempt < 3 && tail.find("ROUDI_STILL_RUNNING") != std::string::npos && WaitUntilRoudiGone(3)) continue;
+    throw std::runtime_error("iox-roudi exited at start (config " + config_path() + "); end of " + log_path() +
+                             ":\n" + tail);
+  }
+}
+
+bool RoudiProcess::Launch(double timeout_s) {
   const std::string log = log_path();
   const std::string config = config_path();
   const pid_t pid = fork();
@@ -154,16 +187,13 @@ void RoudiProcess::Start(double timeout_s) {
     }
     // -k 2: processes still attached when RouDi stops get SIGKILL 2 s after SIGTERM. -l error: at
     // warning level RouDi notes every reader whose history request exceeds the writer's (harmless).
-    execl(exe.c_str(), exe.c_str(), "-c", config.c_str(), "-k", "2", "-l", "error", static_cast<char*>(nullptr));
+    execl(exe_.c_str(), exe_.c_str(), "-c", config.c_str(), "-k", "2", "-l", "error", static_cast<char*>(nullptr));
     _exit(127);
   }
   pid_ = pid;
-  ++starts_;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
   while (!RoudiRunning()) {
-    if (!Alive())
-      throw std::runtime_error("iox-roudi exited at start (config " + config + "); end of " + log + ":\n" +
-                               FileTail(log, 1500));
+    if (!Alive()) return false;
     if (std::chrono::steady_clock::now() > deadline) {
       Stop(1);
       throw std::runtime_error("iox-roudi did not answer within " + std::to_string(int(timeout_s)) +
@@ -171,6 +201,7 @@ void RoudiProcess::Start(double timeout_s) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  return true;
 }
 
 bool RoudiProcess::Alive() {
@@ -187,7 +218,7 @@ void RoudiProcess::LeaveUntilExit() { pid_ = -1; }
 
 bool WaitUntilRoudiGone(double timeout_s) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-  while (RoudiRunning()) {
+  while (RoudiRunning() || RoudiLockHeld()) {
     if (std::chrono::steady_clock::now() > deadline) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }

@@ -67,7 +67,8 @@ std::string CheckPlanFits(const PoolPlan& plan, const ShmSpace& space, const std
 // a stale socket file left by a dead RouDi does not).
 bool RoudiRunning();
 
-// Waits until no RouDi answers (one that was told to stop takes a moment); false after `timeout_s`.
+// Waits until no RouDi answers and its process has ended (one that was told to stop takes a moment, and
+// a new one started before it has ended aborts); false after `timeout_s`.
 bool WaitUntilRoudiGone(double timeout_s = 5);
 
 // The iox-roudi executable (Debian package iceoryx), or empty when it is not installed.
@@ -100,7 +101,11 @@ class RoudiProcess {
   int starts() const { return starts_; }
 
  private:
+  // Starts iox-roudi once; false when it exited before answering.
+  bool Launch(double timeout_s);
+
   std::string work_dir_;
+  std::string exe_;
   PoolPlan plan_;
   pid_t pid_ = -1;
   int starts_ = 0;

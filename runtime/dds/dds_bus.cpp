@@ -31,6 +31,7 @@ constexpr const char* kTypeName = "fusecal::lcm_message";
 constexpr int kDefaultDepth = 64;      // small channels: STATUS, motions, EXTRINSIC, ...
 constexpr int kDefaultBulkDepth = 8;   // images, scans, stations
 constexpr int kTakeBatch = 64;
+constexpr int kBulkTakeBatch = 4;
 constexpr int kNewWriterWaitMs = 250;  // > RouDi's discovery interval (100 ms in iceoryx 2.0)
 // iceoryx aborts the process when a sample needs a chunk larger than RouDi's largest mempool (4 MiB in
 // RouDi's built-in configuration). Larger messages go through a writer with a deadline, which Cyclone
@@ -144,10 +145,17 @@ struct DdsBus::Impl {
       return plain ? channel == pattern : std::regex_match(channel, regex);
     }
   };
+  // Samples are taken into memory kept from one take to the next: a 6 MB message is copied into the
+  // buffer of an earlier one instead of a fresh allocation (and its page faults) per message. Bulk
+  // channels take a few at a time so that the kept buffers stay small.
   struct Reader {
     std::string channel;
     dds_entity_t reader = 0;
     dds_entity_t condition = 0;
+    std::vector<fusecal_lcm_message> samples;  // zero-initialised; contents owned here
+    ~Reader() {
+      for (auto& sample : samples) dds_sample_free(&sample, &fusecal_lcm_message_desc, DDS_FREE_CONTENTS);
+    }
   };
 
   std::string url;
@@ -222,6 +230,7 @@ struct DdsBus::Impl {
     if (readers.count(channel)) return;
     auto reader = std::make_shared<Reader>();
     reader->channel = channel;
+    reader->samples.resize(IsBulkChannel(channel) ? kBulkTakeBatch : kTakeBatch);
     reader->reader = dds_create_reader(participant, TopicLocked(channel), QosFor(channel), nullptr);
     if (reader->reader < 0)
       throw BusError("DDS: cannot create a reader for channel " + channel + " on " + url + ": " +
@@ -288,9 +297,10 @@ struct DdsBus::Impl {
     void* samples[kTakeBatch];
     dds_sample_info_t infos[kTakeBatch];
     for (const auto& reader : snapshot) {
+      const int batch = static_cast<int>(reader->samples.size());
+      for (int i = 0; i < batch; ++i) samples[i] = &reader->samples[i];
       while (!pending_error) {
-        std::fill(std::begin(samples), std::end(samples), nullptr);
-        const int n = dds_take(reader->reader, samples, infos, kTakeBatch, kTakeBatch);
+        const int n = dds_take(reader->reader, samples, infos, static_cast<size_t>(batch), static_cast<uint32_t>(batch));
         if (n <= 0) break;
         std::vector<std::shared_ptr<Sub>> matching;
         {
@@ -315,8 +325,7 @@ struct DdsBus::Impl {
             }
           }
         }
-        dds_return_loan(reader->reader, samples, n);
-        if (n < kTakeBatch) break;
+        if (n < batch) break;
       }
     }
     return delivered;

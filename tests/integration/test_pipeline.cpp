@@ -35,6 +35,17 @@ std::string ReadAll(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
+// Runs a shell command in the background, its output into `output_file`.
+pid_t StartInBackground(const std::string& command, const std::string& output_file) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string redirected = command + " > " + output_file + " 2>&1";
+    execl("/bin/sh", "sh", "-c", redirected.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
+
 class Pipeline : public testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -44,6 +55,14 @@ class Pipeline : public testing::Test {
     ASSERT_EQ(sim.exit_code, 0) << sim.output;
     const auto cal = RunCommand(kFusecal + " calibrate --log " + log_ + " --out " + Temp("cal1") + " 2>&1");
     ASSERT_EQ(cal.exit_code, 0) << cal.output;
+  }
+  // The result in `out_dir` equals the in-process calibration's (up to the printing of the result file).
+  static void ExpectSameAnswerAsCalibrate(const std::string& out_dir, const std::string& context) {
+    const auto eval = RunCommand(kFusecal + " evaluate --result " + out_dir + "/extrinsic.yaml --truth " +
+                                 Temp("cal1") + "/extrinsic.yaml");
+    const auto j = nlohmann::json::parse(eval.output);
+    EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << context;
+    EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << context;
   }
   static std::string log_;
 };
@@ -66,11 +85,7 @@ TEST_F(Pipeline, SeparateProcessesOverUdpAgreeWithCalibrate) {
   const auto run = RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus '" + kBus + "' --out " +
                               Temp("run") + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  const auto eval = RunCommand(kFusecal + " evaluate --result " + Temp("run") + "/extrinsic.yaml --truth " +
-                               Temp("cal1") + "/extrinsic.yaml");
-  const auto j = nlohmann::json::parse(eval.output);
-  EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << run.output;
-  EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << run.output;
+  ExpectSameAnswerAsCalibrate(Temp("run"), run.output);
 }
 
 #ifdef FUSECAL_WITH_DDS
@@ -78,11 +93,7 @@ TEST_F(Pipeline, SeparateProcessesOverDdsAgreeWithCalibrate) {
   const auto run = RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus 'dds://?domain=23' --out " +
                               Temp("run-dds") + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  const auto eval = RunCommand(kFusecal + " evaluate --result " + Temp("run-dds") + "/extrinsic.yaml --truth " +
-                               Temp("cal1") + "/extrinsic.yaml");
-  const auto j = nlohmann::json::parse(eval.output);
-  EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << run.output;
-  EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << run.output;
+  ExpectSameAnswerAsCalibrate(Temp("run-dds"), run.output);
 }
 
 // Over iceoryx shared memory: `fusecal run` starts RouDi itself, and stops it at the end.
@@ -93,11 +104,7 @@ TEST_F(Pipeline, SeparateProcessesOverSharedMemoryAgreeWithCalibrate) {
   EXPECT_NE(run.output.find("shared memory: started iox-roudi"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("messages lost by the bus: 0"), std::string::npos) << run.output;
   EXPECT_FALSE(shm::RoudiRunning()) << "RouDi outlived the run";
-  const auto eval = RunCommand(kFusecal + " evaluate --result " + Temp("run-shm") + "/extrinsic.yaml --truth " +
-                               Temp("cal1") + "/extrinsic.yaml");
-  const auto j = nlohmann::json::parse(eval.output);
-  EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << run.output;
-  EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << run.output;
+  ExpectSameAnswerAsCalibrate(Temp("run-shm"), run.output);
 }
 
 // /dev/shm cannot hold the pools (here: a config asking for 1.3 TB of them): the run says so before
@@ -115,10 +122,7 @@ TEST_F(Pipeline, SharedMemoryThatDoesNotFitFallsBackToTheNetworkPath) {
   EXPECT_NE(run.output.find("shared memory unavailable: /dev/shm has"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("network path"), std::string::npos) << run.output;
   EXPECT_FALSE(shm::RoudiRunning()) << "RouDi was started anyway";
-  const auto eval = RunCommand(kFusecal + " evaluate --result " + Temp("run-noshm") + "/extrinsic.yaml --truth " +
-                               Temp("cal1") + "/extrinsic.yaml");
-  const auto j = nlohmann::json::parse(eval.output);
-  EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << run.output;
+  ExpectSameAnswerAsCalibrate(Temp("run-noshm"), run.output);
 }
 
 // RouDi killed in the middle of the run: stopping or losing RouDi ends (or cuts off) every stage
@@ -127,13 +131,8 @@ TEST_F(Pipeline, RoudiKilledMidRunComesBackWithTheStagesAndTheAnswerStays) {
   const std::string out = Temp("roudi-killed");
   const std::string command =
       kFusecal + " run --log " + log_ + " --speed 0 --bus 'dds://?domain=26&shm=1' --out " + out;
-  const pid_t pid = fork();
+  const pid_t pid = StartInBackground(command, out + ".txt");
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const std::string redirected = command + " > " + out + ".txt 2>&1";
-    execl("/bin/sh", "sh", "-c", redirected.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
   // Kill RouDi once the stages are up and the first motions are out.
   bool killed = false;
   for (int i = 0; i < 400 && !killed; ++i) {
@@ -149,11 +148,7 @@ TEST_F(Pipeline, RoudiKilledMidRunComesBackWithTheStagesAndTheAnswerStays) {
   EXPECT_NE(output.find("every stage restarted after RouDi"), std::string::npos) << output;
   EXPECT_NE(output.find("RouDi restarts: 1"), std::string::npos) << output;
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
-  const auto eval = RunCommand(kFusecal + " evaluate --result " + out + "/extrinsic.yaml --truth " + Temp("cal1") +
-                               "/extrinsic.yaml");
-  const auto j = nlohmann::json::parse(eval.output);
-  EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << output;
-  EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << output;
+  ExpectSameAnswerAsCalibrate(out, output);
 }
 #endif
 
@@ -162,13 +157,8 @@ TEST_F(Pipeline, StageKilledWithSigkillIsRestartedAndTheAnswerStays) {
   // Its own port: the stage processes are found by it ("[f]" keeps pgrep from matching itself).
   const std::string bus = "udpm://239.255.76.67:7684?ttl=0&recv_buf_size=67108864";
   const std::string command = kFusecal + " run --log " + log_ + " --speed 0 --bus '" + bus + "' --out " + out;
-  const pid_t pid = fork();
+  const pid_t pid = StartInBackground(command, out + ".txt");
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const std::string redirected = command + " > " + out + ".txt 2>&1";
-    execl("/bin/sh", "sh", "-c", redirected.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
   // Kill the ICP stage once it is up and the replay has begun.
   bool killed = false;
   for (int i = 0; i < 200 && !killed; ++i) {
@@ -182,11 +172,7 @@ TEST_F(Pipeline, StageKilledWithSigkillIsRestartedAndTheAnswerStays) {
   const std::string output = ReadAll(out + ".txt");
   EXPECT_NE(output.find("restarted"), std::string::npos) << output;
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
-  const auto eval = RunCommand(kFusecal + " evaluate --result " + out + "/extrinsic.yaml --truth " + Temp("cal1") +
-                               "/extrinsic.yaml");
-  const auto j = nlohmann::json::parse(eval.output);
-  EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << output;
-  EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << output;
+  ExpectSameAnswerAsCalibrate(out, output);
 }
 
 TEST(PipelineBadInput, NoStationsAndOneRotationAxisGiveAVerdictNotACrash) {
