@@ -1,9 +1,5 @@
 #include "runtime/dds/dds_bus.hpp"
 
-#include <sys/socket.h>
-#include <sys/un.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -12,9 +8,9 @@
 #include <cstring>
 #include <exception>
 #include <map>
-#include <set>
 #include <mutex>
 #include <regex>
+#include <set>
 #include <thread>
 #include <vector>
 
@@ -435,8 +431,6 @@ DdsBus::~DdsBus() = default;
 std::string DdsBus::url() const { return impl_->url; }
 
 bool DdsBus::shared_memory() const { return impl_->shm; }
-
-bool DdsBus::RoudiRunning() { return shm::RoudiRunning(); }
 
 uint64_t DdsBus::dropped_messages() const { return impl_->dropped.load(); }
 

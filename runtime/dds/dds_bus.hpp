@@ -59,9 +59,6 @@ class DdsBus : public Bus {
   // Whether shared memory is in use (false when shm=0, or when shm=1 fell back for lack of RouDi).
   bool shared_memory() const;
 
-  // Whether an iceoryx RouDi daemon answers on this machine.
-  static bool RoudiRunning();
-
   struct Impl;
 
  private:
