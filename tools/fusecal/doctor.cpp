@@ -192,8 +192,10 @@ std::vector<DoctorFinding> RunDoctor(const std::string& bus_url, bool apply_fixe
     }
     findings = run_checks();
   }
-  if (multicast || url.rfind("memq://", 0) == 0 || url.rfind("dds://", 0) == 0)
-    findings.push_back(CheckLiveRoundTrip(url));
+  // Over DDS's network path even for shm=1: a process attached to RouDi is ended when RouDi stops, and
+  // the doctor must not be (RouDi itself has its own line above).
+  if (multicast || url.rfind("memq://", 0) == 0) findings.push_back(CheckLiveRoundTrip(url));
+  if (url.rfind("dds://", 0) == 0) findings.push_back(CheckLiveRoundTrip(WithUrlParameter(url, "shm", "0")));
   return findings;
 }
 
