@@ -1,5 +1,6 @@
 // Scenario files: the shipped ones load; bad ones fail with a ConfigError naming the key.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -19,9 +20,10 @@ std::string ReadFile(const std::string& path) {
   return ss.str();
 }
 
-// Writes text to a temporary scenario file and loads it.
+// Writes text to a temporary scenario file and loads it. The file is this process's own: ctest runs
+// these tests in parallel, one process each (a shared name let one test read another's scenario).
 Scenario LoadText(const std::string& text) {
-  const std::string path = testing::TempDir() + "/scenario_under_test.yaml";
+  const std::string path = testing::TempDir() + "/scenario_under_test_" + std::to_string(getpid()) + ".yaml";
   std::ofstream(path) << text;
   return LoadScenario(path);
 }
