@@ -20,6 +20,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "runtime/child_process.hpp"
+
 namespace fusecal::shm {
 
 namespace {
@@ -228,16 +230,7 @@ bool WaitUntilRoudiGone(double timeout_s) {
 void RoudiProcess::Stop(double grace_s) {
   if (pid_ <= 0) return;
   kill(pid_, SIGTERM);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(grace_s);
-  int status = 0;
-  while (waitpid(pid_, &status, WNOHANG) != pid_) {
-    if (std::chrono::steady_clock::now() > deadline) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, &status, 0);
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  ReapOrKill(pid_, grace_s);
   pid_ = -1;
 }
 

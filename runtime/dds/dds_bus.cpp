@@ -439,13 +439,14 @@ void DdsBus::PublishRaw(const std::string& channel, const void* data, size_t siz
   if (size > 0xffffffffu) throw BusError("DDS: message on channel " + channel + " is too large");
   dds_entity_t writer;
   bool new_writer = false;
+  uint64_t seq_number = 0;
   {
     std::lock_guard<std::mutex> lock(d.mutex);
     const bool large = d.shm && static_cast<long>(size) > d.shm_max;
     if (large && d.large_notice_given.insert(channel).second)
       std::fprintf(stderr,
                    "fusecal: %s: a %zu-byte message on %s is larger than the biggest shared-memory chunk "
-                   "carries (shm_max=%ld); such messages go over the network path (raise bus.max_message_bytes "
+                   "carries (shm_max=%ld); such messages go over the network path (raise bus.max_message_mb "
                    "so that RouDi's pools hold them)\n",
                    d.url.c_str(), size, channel.c_str(), d.shm_max);
     auto& writers = large ? d.large_writers : d.writers;
@@ -463,6 +464,7 @@ void DdsBus::PublishRaw(const std::string& channel, const void* data, size_t siz
     } else {
       writer = it->second;
     }
+    seq_number = ++d.sent[writer];
   }
   // A new writer reaches the readers that exist only once they know of it: over the network path when
   // its discovery message has arrived, over shared memory when RouDi's discovery loop (every 100 ms) has
@@ -472,10 +474,7 @@ void DdsBus::PublishRaw(const std::string& channel, const void* data, size_t siz
   fusecal_lcm_message message{};
   message.channel = const_cast<char*>(channel.c_str());
   message.utime = WallUtime();
-  {
-    std::lock_guard<std::mutex> lock(d.mutex);
-    message.seq_number = ++d.sent[writer];
-  }
+  message.seq_number = seq_number;
   message.data._maximum = message.data._length = static_cast<uint32_t>(size);
   message.data._buffer = static_cast<uint8_t*>(const_cast<void*>(data));
   message.data._release = false;

@@ -59,6 +59,8 @@ TEST(SharedMemoryPools, QueriesARealFilesystem) {
 }
 
 TEST(Roudi, PlanLargerThanDevShmFailsBeforeStarting) {
+  // A RouDi left to end by the previous test binary may still be going (it takes a moment).
+  ASSERT_TRUE(WaitUntilRoudiGone()) << "another RouDi is running on this machine; stop it to run this test";
   RoudiProcess roudi(TempDir("huge"), PlanPools(size_t{1} << 30, 1024));  // 1 TiB of chunks
   try {
     roudi.Start();

@@ -9,7 +9,8 @@
 #include <chrono>
 #include <filesystem>
 #include <stdexcept>
-#include <thread>
+
+#include "runtime/child_process.hpp"
 
 namespace fusecal {
 
@@ -80,17 +81,7 @@ void Supervisor::ReplaceArgument(const std::string& from, const std::string& to)
 
 // Waits for a signalled stage to exit; SIGKILL once `grace_s` has passed.
 void Supervisor::Reap(StageProcess& p, double grace_s) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(grace_s);
-  while (p.pid > 0) {
-    int status = 0;
-    if (waitpid(p.pid, &status, WNOHANG) == p.pid) break;
-    if (std::chrono::steady_clock::now() > deadline) {
-      kill(p.pid, SIGKILL);
-      waitpid(p.pid, &status, 0);
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  ReapOrKill(p.pid, grace_s);
   p.pid = -1;
 }
 
