@@ -1,6 +1,6 @@
 // The message bus every process talks through (after Drake's DrakeLcmInterface): publish LCM-encoded
 // bytes on a channel, subscribe with a handler, dispatch with Handle(timeout). Implementations: LCM
-// (udpm://, memq://, file://) and Cyclone DDS (dds://, runtime/dds/). Typed Publish<M>/Subscribe<M> work for every lcm-gen type.
+// (udpm://, memq://, file://, tcpq://) and Cyclone DDS (dds://, runtime/dds/); MakeBus lists the URLs. Typed Publish<M>/Subscribe<M> work for every lcm-gen type.
 //
 // Handlers run inside Handle() on the caller's thread. An exception thrown by a handler is caught at the
 // transport boundary and rethrown from Handle(), so that errors are never swallowed inside C callbacks.
@@ -101,8 +101,16 @@ class Bus {
   }
 };
 
-// Creates the bus named by `url`: any LCM URL (udpm://, memq://, file://...). Throws BusError with the
-// reason when the URL is unknown or the transport cannot start.
+// Creates the bus named by `url` (empty: DefaultBusUrl()). The schemes it accepts:
+//   udpm://GROUP:PORT?ttl=N&recv_buf_size=B  LCM UDP multicast (ttl=0 stays on the host, ttl=1 spans a LAN)
+//   memq://                                  LCM in-process queue (tests, `fusecal calibrate`)
+//   file://PATH?mode=r|w&speed=X             LCM log read or written as a bus (LCM's log provider)
+//   tcpq://HOST:PORT                         LCM over TCP through an `lcm-tcpq` server
+//   dds://?domain=N&shm=0|1&depth=N&bulk_depth=N&shm_max=B
+//                                            Cyclone DDS, network path or iceoryx shared memory
+//                                            (runtime/dds/dds_bus.hpp; only when built with DDS)
+// Throws BusError with the reason (and this list of schemes) when the URL is unknown or the transport
+// cannot start.
 std::unique_ptr<Bus> MakeBus(const std::string& url);
 
 // The default URL when none is given: $LCM_DEFAULT_URL, else loopback multicast with a 64 MB receive

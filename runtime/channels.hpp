@@ -1,4 +1,4 @@
-// Channel names of the pipeline (DESIGN.md section 3). One place, so that nodes, tools and tests agree.
+// Channel names of the pipeline (docs/design.md section 3). One place, so that nodes, tools and tests agree.
 #pragma once
 
 namespace fusecal::channels {

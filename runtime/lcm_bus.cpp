@@ -77,12 +77,13 @@ Subscription LcmBus::SubscribeRaw(const std::string& channel, RawHandler handler
 void LcmBus::Deliver(Slot* slot, const char* channel, const void* data, size_t size,
                      int64_t recv_utime) {
   ++handled_;
-  if (pending_error_) return;  // the first error wins; it surfaces from Handle()
+  // Every handler gets the message even when another one failed on it (in one process, a stage that
+  // cannot use a station must not keep it from the others); the first error surfaces from Handle().
   try {
     const std::string channel_name(channel);
     slot->handler(RawMessage{channel_name, static_cast<const uint8_t*>(data), size, recv_utime});
   } catch (...) {
-    pending_error_ = std::current_exception();
+    if (!pending_error_) pending_error_ = std::current_exception();
   }
 }
 

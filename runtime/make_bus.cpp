@@ -8,6 +8,14 @@
 
 namespace fusecal {
 
+namespace {
+
+constexpr const char* kSchemes =
+    "udpm:// (LCM UDP multicast), memq:// (LCM in-process), file:// (LCM log), tcpq:// (LCM over TCP), "
+    "dds:// (Cyclone DDS)";
+
+}  // namespace
+
 std::string DefaultBusUrl() {
   if (const char* env = std::getenv("LCM_DEFAULT_URL"); env && *env) return env;
   return "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=67108864";
@@ -17,7 +25,7 @@ std::unique_ptr<Bus> MakeBus(const std::string& url) {
   const std::string chosen = url.empty() ? DefaultBusUrl() : url;
   const auto scheme_end = chosen.find("://");
   if (scheme_end == std::string::npos)
-    throw BusError("bus URL '" + chosen + "' has no scheme (expected udpm://, memq:// or file://)");
+    throw BusError("bus URL '" + chosen + "' has no scheme (expected one of " + kSchemes + ")");
   const std::string scheme = chosen.substr(0, scheme_end);
   if (scheme == "udpm" || scheme == "memq" || scheme == "file" || scheme == "tcpq")
     return std::make_unique<LcmBus>(chosen);
@@ -30,8 +38,7 @@ std::unique_ptr<Bus> MakeBus(const std::string& url) {
                    "then reconfigure with -DFUSECAL_WITH_DDS=ON)");
 #endif
   }
-  throw BusError("bus URL '" + chosen + "': unknown transport '" + scheme +
-                 "' (expected udpm, memq, file, tcpq or dds)");
+  throw BusError("bus URL '" + chosen + "': unknown transport '" + scheme + "' (expected one of " + kSchemes + ")");
 }
 
 }  // namespace fusecal

@@ -51,6 +51,24 @@ ConfigReader StageSection(const std::string& config_path, const std::string& nam
 // flags or config, 1 when the bus cannot start).
 int StageMain(int argc, char** argv, const StageDefinition& stage);
 
+// The `main` of a stage whose node is built from the settings in its section of the config, e.g.
+//   int main(int argc, char** argv) {
+//     return RunStage<LidarIcpNode>(argc, argv, "lidar_icp", "fusecal-lidar-icp: ...", ReadLidarIcpNodeSettings);
+//   }
+template <typename Node, typename Settings>
+int RunStage(int argc, char** argv, const std::string& name, const std::string& description,
+             Settings (*read_settings)(ConfigReader section)) {
+  StageDefinition stage;
+  stage.name = name;
+  stage.description = description;
+  stage.make_node = [read_settings, name](const std::string& config_path) -> std::unique_ptr<StageNode> {
+    Settings settings;
+    if (!config_path.empty()) settings = read_settings(StageSection(config_path, name));
+    return std::make_unique<Node>(settings);
+  };
+  return StageMain(argc, argv, stage);
+}
+
 // Builds and publishes one STATUS message.
 void PublishStatus(Bus& bus, const std::string& name, const StageStatus& status,
                    const std::string& last_error);

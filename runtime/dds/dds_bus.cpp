@@ -304,7 +304,7 @@ struct DdsBus::Impl {
           for (const auto& sub : subs)
             if (sub->active && sub->Matches(reader->channel)) matching.push_back(sub);
         }
-        for (int i = 0; i < n && !pending_error; ++i) {
+        for (int i = 0; i < n; ++i) {
           if (!infos[i].valid_data) continue;
           const auto* message = static_cast<const fusecal_lcm_message*>(samples[i]);
           CountGap(infos[i].publication_handle, message->seq_number);
@@ -316,8 +316,9 @@ struct DdsBus::Impl {
             try {
               sub->handler(raw);
             } catch (...) {
-              pending_error = std::current_exception();  // the first error wins
-              break;
+              // The first error wins; the other handlers and the rest of the batch are still served
+              // (a sample taken from the reader and not delivered would be lost without a count).
+              if (!pending_error) pending_error = std::current_exception();
             }
           }
         }
@@ -326,104 +327,125 @@ struct DdsBus::Impl {
     }
     return delivered;
   }
+
+  // Reads domain=, shm=, depth=, bulk_depth= and shm_max= from the URL.
+  void ParseUrl(const std::string& text) {
+    if (text.rfind("dds://", 0) != 0) throw BusError("bus URL '" + text + "' is not a dds:// URL");
+    std::string rest = text.substr(6);
+    const auto question = rest.find('?');
+    const std::string host = rest.substr(0, question);
+    if (!host.empty() && host != "/")
+      throw BusError("bus URL '" + text + "': DDS takes no address ('" + host +
+                     "'); use dds://?domain=N&shm=0|1&depth=N");
+    if (question != std::string::npos) {
+      std::string query = rest.substr(question + 1);
+      size_t pos = 0;
+      while (pos <= query.size()) {
+        const size_t amp = std::min(query.find('&', pos), query.size());
+        const std::string item = query.substr(pos, amp - pos);
+        pos = amp + 1;
+        if (item.empty()) continue;
+        const auto eq = item.find('=');
+        const std::string key = item.substr(0, eq);
+        const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
+        if (key == "domain")
+          domain_id = static_cast<uint32_t>(ParseInt(text, key, value, 0, 232));
+        else if (key == "shm")
+          shm_requested = ParseInt(text, key, value, 0, 1) == 1;
+        else if (key == "depth")
+          depth = ParseInt(text, key, value, 1, 256);  // iceoryx caps a subscriber queue at 256
+        else if (key == "bulk_depth")
+          bulk_depth = ParseInt(text, key, value, 1, 256);
+        else if (key == "shm_max")
+          shm_max = ParseInt(text, key, value, 1024, 2147483647);
+        else
+          throw BusError("bus URL '" + text + "': unknown parameter '" + key +
+                         "' (DDS takes domain=, shm=, shm_max=, depth= and bulk_depth=)");
+      }
+    }
+  }
+
+  // Shared memory only when asked for and a RouDi runs; otherwise the network path, said once.
+  void ChooseSharedMemory() {
+    shm = shm_requested;
+    if (shm && !shm::RoudiRunning()) {
+      std::fprintf(stderr,
+                   "fusecal: %s: shm=1 but no iceoryx RouDi is running (start iox-roudi); using the "
+                   "network path instead of shared memory\n",
+                   url.c_str());
+      shm = false;
+    }
+  }
+
+  // Creates the domain (one per process and domain id, shared by the buses on it).
+  void OpenDomain() {
+    {
+      std::lock_guard<std::mutex> lock(g_domains_mutex);
+      auto it = g_domains.find(domain_id);
+      if (it == g_domains.end()) {
+        const std::string config = CycloneConfig(shm);
+        const dds_entity_t domain = dds_create_domain(domain_id, config.c_str());
+        if (domain > 0) {
+          it = g_domains.emplace(domain_id, DomainEntry{domain, 0, shm}).first;
+        } else if (domain != DDS_RETCODE_PRECONDITION_NOT_MET) {  // not: created outside DdsBus
+          throw BusError("DDS: cannot create domain " + std::to_string(domain_id) + " for " + url + ": " +
+                         DdsError(domain));
+        }
+      }
+      if (it != g_domains.end()) {
+        ++it->second.users;
+        owns_domain_ref = true;
+        if (it->second.shm != shm) {
+          std::fprintf(stderr, "fusecal: %s: DDS domain %u is already open in this process with shm=%d; using that\n",
+                       url.c_str(), domain_id, it->second.shm ? 1 : 0);
+          shm = it->second.shm;
+        }
+      }
+    }
+  }
+
+  // The participant and the waitset that Handle() waits on.
+  void CreateParticipant() {
+    participant = dds_create_participant(domain_id, nullptr, nullptr);
+    if (participant < 0)
+      throw BusError("DDS: cannot create a participant on domain " + std::to_string(domain_id) + " for " +
+                     url + ": " + DdsError(participant));
+    waitset = dds_create_waitset(participant);
+    if (waitset < 0) throw BusError("DDS: cannot create a waitset for " + url);
+  }
+
+  // The QoS of ordinary, bulk and larger-than-a-chunk channels.
+  void CreateQos() {
+    // One QoS for every participant of a domain, with or without shared memory, so that all endpoints
+    // match (a transient-local reader does not match a volatile writer).
+    qos = dds_create_qos();
+    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, depth);
+    // Volatile: a reader gets what is written after it matched. Transient-local would hand a reader that
+    // joins late (a restarted stage) the writer's last sample ahead of the stations it is given again,
+    // out of order (measured: ICP then paired station 1 with 0). The first sample of a new writer is
+    // protected by the wait in PublishRaw instead.
+    dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+    bulk_qos = dds_create_qos();
+    dds_copy_qos(bulk_qos, qos);
+    dds_qset_history(bulk_qos, DDS_HISTORY_KEEP_LAST, bulk_depth);
+    // Messages larger than the biggest shared-memory chunk: the same QoS plus a (never missed in practice)
+    // deadline, which Cyclone 0.10 does not put on shared memory, so they take the network path. The
+    // deadline is compatible with every reader (they request none).
+    large_qos = dds_create_qos();
+    dds_copy_qos(large_qos, bulk_qos);
+    dds_qset_deadline(large_qos, DDS_SECS(24 * 3600));
+  }
 };
 
 DdsBus::DdsBus(const std::string& url) : impl_(std::make_shared<Impl>()) {
   Impl& d = *impl_;
   d.url = url;
-  if (url.rfind("dds://", 0) != 0) throw BusError("bus URL '" + url + "' is not a dds:// URL");
-  std::string rest = url.substr(6);
-  const auto question = rest.find('?');
-  const std::string host = rest.substr(0, question);
-  if (!host.empty() && host != "/")
-    throw BusError("bus URL '" + url + "': DDS takes no address ('" + host +
-                   "'); use dds://?domain=N&shm=0|1&depth=N");
-  if (question != std::string::npos) {
-    std::string query = rest.substr(question + 1);
-    size_t pos = 0;
-    while (pos <= query.size()) {
-      const size_t amp = std::min(query.find('&', pos), query.size());
-      const std::string item = query.substr(pos, amp - pos);
-      pos = amp + 1;
-      if (item.empty()) continue;
-      const auto eq = item.find('=');
-      const std::string key = item.substr(0, eq);
-      const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
-      if (key == "domain")
-        d.domain_id = static_cast<uint32_t>(ParseInt(url, key, value, 0, 232));
-      else if (key == "shm")
-        d.shm_requested = ParseInt(url, key, value, 0, 1) == 1;
-      else if (key == "depth")
-        d.depth = ParseInt(url, key, value, 1, 256);  // iceoryx caps a subscriber queue at 256
-      else if (key == "bulk_depth")
-        d.bulk_depth = ParseInt(url, key, value, 1, 256);
-      else if (key == "shm_max")
-        d.shm_max = ParseInt(url, key, value, 1024, 2147483647);
-      else
-        throw BusError("bus URL '" + url + "': unknown parameter '" + key +
-                       "' (DDS takes domain=, shm=, shm_max=, depth= and bulk_depth=)");
-    }
-  }
-
-  d.shm = d.shm_requested;
-  if (d.shm && !shm::RoudiRunning()) {
-    std::fprintf(stderr,
-                 "fusecal: %s: shm=1 but no iceoryx RouDi is running (start iox-roudi); using the "
-                 "network path instead of shared memory\n",
-                 url.c_str());
-    d.shm = false;
-  }
-
-  {
-    std::lock_guard<std::mutex> lock(g_domains_mutex);
-    auto it = g_domains.find(d.domain_id);
-    if (it == g_domains.end()) {
-      const std::string config = CycloneConfig(d.shm);
-      const dds_entity_t domain = dds_create_domain(d.domain_id, config.c_str());
-      if (domain > 0) {
-        it = g_domains.emplace(d.domain_id, DomainEntry{domain, 0, d.shm}).first;
-      } else if (domain != DDS_RETCODE_PRECONDITION_NOT_MET) {  // not: created outside DdsBus
-        throw BusError("DDS: cannot create domain " + std::to_string(d.domain_id) + " for " + url + ": " +
-                       DdsError(domain));
-      }
-    }
-    if (it != g_domains.end()) {
-      ++it->second.users;
-      d.owns_domain_ref = true;
-      if (it->second.shm != d.shm) {
-        std::fprintf(stderr, "fusecal: %s: DDS domain %u is already open in this process with shm=%d; using that\n",
-                     url.c_str(), d.domain_id, it->second.shm ? 1 : 0);
-        d.shm = it->second.shm;
-      }
-    }
-  }
-
-  d.participant = dds_create_participant(d.domain_id, nullptr, nullptr);
-  if (d.participant < 0)
-    throw BusError("DDS: cannot create a participant on domain " + std::to_string(d.domain_id) + " for " +
-                   url + ": " + DdsError(d.participant));
-  d.waitset = dds_create_waitset(d.participant);
-  if (d.waitset < 0) throw BusError("DDS: cannot create a waitset for " + url);
-
-  // One QoS for every participant of a domain, with or without shared memory, so that all endpoints
-  // match (a transient-local reader does not match a volatile writer).
-  d.qos = dds_create_qos();
-  dds_qset_reliability(d.qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-  dds_qset_history(d.qos, DDS_HISTORY_KEEP_LAST, d.depth);
-  // Volatile: a reader gets what is written after it matched. Transient-local would hand a reader that
-  // joins late (a restarted stage) the writer's last sample ahead of the stations it is given again,
-  // out of order (measured: ICP then paired station 1 with 0). The first sample of a new writer is
-  // protected by the wait in PublishRaw instead.
-  dds_qset_durability(d.qos, DDS_DURABILITY_VOLATILE);
-  d.bulk_qos = dds_create_qos();
-  dds_copy_qos(d.bulk_qos, d.qos);
-  dds_qset_history(d.bulk_qos, DDS_HISTORY_KEEP_LAST, d.bulk_depth);
-  // Messages larger than the biggest shared-memory chunk: the same QoS plus a (never missed in practice)
-  // deadline, which Cyclone 0.10 does not put on shared memory, so they take the network path. The
-  // deadline is compatible with every reader (they request none).
-  d.large_qos = dds_create_qos();
-  dds_copy_qos(d.large_qos, d.bulk_qos);
-  dds_qset_deadline(d.large_qos, DDS_SECS(24 * 3600));
+  d.ParseUrl(url);
+  d.ChooseSharedMemory();
+  d.OpenDomain();
+  d.CreateParticipant();
+  d.CreateQos();
 }
 
 DdsBus::~DdsBus() = default;

@@ -1,6 +1,6 @@
 // Bearing-vector geometry shared by the front end's steps.
 //
-// Motion convention (DESIGN.md section 2): the camera motion is A = T_ci_cj, the pose of camera j in the
+// Motion convention (docs/design.md section 2): the camera motion is A = T_ci_cj, the pose of camera j in the
 // frame of camera i, p_i = R p_j + t. For a correspondence with unit bearings f_i (image i) and f_j (image j)
 // of the same point, f_i, R f_j and t lie in one plane, the epipolar plane: f_i . (t x R f_j) = 0.
 #pragma once
@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "common/camera_model.hpp"
+#include "foundation/camera_model.hpp"
 
 namespace fusecal::camera_frontend {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "camera_frontend/bearings.hpp"
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 
 namespace fusecal::camera_frontend {
 

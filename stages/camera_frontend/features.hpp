@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "camera_frontend/settings.hpp"
-#include "common/camera_model.hpp"
+#include "foundation/camera_model.hpp"
 
 namespace fusecal {
 

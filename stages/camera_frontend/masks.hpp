@@ -5,7 +5,7 @@
 #include <opencv2/core.hpp>
 
 #include "camera_frontend/settings.hpp"
-#include "common/camera_model.hpp"
+#include "foundation/camera_model.hpp"
 
 namespace fusecal::camera_frontend {
 

@@ -116,6 +116,100 @@ std::string TranslationUnreliableReason(const EssentialModel& model, bool rotati
   return {};
 }
 
+// Why matching failed: fewer matches than min_inliers.
+std::string TooFewMatchesReason(const RelativePoseResult& r, int min_inliers) {
+  return "too few matches: " + std::to_string(r.matches) + " < min_inliers " + std::to_string(min_inliers) +
+         " (features " + std::to_string(r.features_i) + ", " + std::to_string(r.features_j) + ")";
+}
+
+// Why no model is supported: the larger inlier count (refined essential model, rotation-only RANSAC) is
+// below min_inliers.
+std::string TooFewInliersReason(const EssentialModel& model, const camera_frontend::RansacResult& rot,
+                                int min_inliers, int matches) {
+  return "too few inliers: " + std::to_string(std::max(model.inliers.size(), rot.inliers.size())) +
+         " < min_inliers " + std::to_string(min_inliers) + " (" + std::to_string(matches) + " matches)";
+}
+
+// The bearings of the matched keypoints, f_i[k] and f_j[k] for matches[k].
+void MatchedBearings(const std::vector<cv::DMatch>& matches, const ImageFeatures& fi, const ImageFeatures& fj,
+                     Bearings* f_i, Bearings* f_j) {
+  for (const auto& m : matches) {
+    f_i->push_back(fi.bearings[m.queryIdx]);
+    f_j->push_back(fj.bearings[m.trainIdx]);
+  }
+}
+
+// The essential and the rotation-only RANSAC models.
+struct RansacModels {
+  camera_frontend::RansacResult essential, rotation_only;
+};
+
+// 5-point RANSAC and rotation-only RANSAC on the bearings; their time, inliers and iterations go into r.
+RansacModels RunRansac(const Bearings& f_i, const Bearings& f_j, const CameraFrontendSettings& s, double threshold,
+                       RelativePoseResult* r) {
+  const auto t0 = Clock::now();
+  RansacModels m;
+  m.essential = camera_frontend::FivePointRansac(f_i, f_j, s.ransac, threshold);
+  m.rotation_only = camera_frontend::RotationOnlyRansac(f_i, f_j, s.ransac, threshold);
+  r->seconds_ransac = SecondsSince(t0);
+  r->ransac_inliers = static_cast<int>(m.essential.inliers.size());
+  r->ransac_iterations = m.essential.iterations;
+  r->rotation_only_inliers = static_cast<int>(m.rotation_only.inliers.size());
+  return m;
+}
+
+// Median |angle to the epipolar plane| (radians) over the inliers of a refined essential model.
+double MedianEpipolarError(const EssentialModel& model, const Bearings& f_i, const Bearings& f_j) {
+  std::vector<double> errors;
+  for (int k : model.inliers)
+    errors.push_back(std::abs(camera_frontend::EpipolarAngle(model.R, model.t, f_i[k], f_j[k])));
+  return camera_frontend::Median(errors);
+}
+
+// Reliable translation: the motion, covariance and refinement figures of the refined essential model.
+void UseEssentialModel(const EssentialModel& model, RelativePoseResult* r) {
+  r->R = model.R;
+  r->t_unit = model.t;
+  r->covariance = model.refinement.covariance;
+  r->covariance_valid = model.refinement.covariance_ok;
+  r->refinement_iterations = model.refinement.iterations;
+  r->refinement_converged = model.refinement.converged;
+}
+
+// Near-pure rotation: the essential rotation where it agrees with the rotation-only fit, else the fit's;
+// the translation flagged unreliable, its covariance block uninformative.
+void UseRotationOnly(const EssentialModel& model, const camera_frontend::RotationOnlyFit& rotation_fit,
+                     const std::string& unreliable, RelativePoseResult* r) {
+  r->translation_unreliable = true;
+  r->failure_reason = "translation unreliable (near-pure rotation): " + unreliable;
+  // The refined essential rotation stays unbiased when a little translation is left, where the
+  // rotation-only fit absorbs the parallax; it is kept unless it is not the rotation-only one (under pure
+  // rotation the chirality test of RANSAC is blind and may pick the twisted pair, 180 degrees away).
+  const bool essential_rotation_ok =
+      model.ok && RotationErrorDeg(model.R, rotation_fit.R) < kMaxRotationDisagreementDeg;
+  r->R = essential_rotation_ok ? model.R : rotation_fit.R;
+  r->t_unit = model.ok ? model.t : Eigen::Vector3d::Zero();
+  r->covariance = Matrix6::Identity();  // uninformative translation block, no cross terms
+  if (essential_rotation_ok && model.refinement.covariance_ok) {
+    r->covariance.block<3, 3>(0, 0) = model.refinement.covariance.block<3, 3>(0, 0);
+    r->covariance_valid = true;
+  } else {
+    r->covariance.block<3, 3>(0, 0) = rotation_fit.covariance;
+    r->covariance_valid = rotation_fit.covariance_ok;
+  }
+  r->refinement_converged = rotation_fit.ok;
+}
+
+// The inlier count and the keypoint pixels of the inlier matches `used` (indices into matches).
+void SetInliers(const std::vector<int>& used, const std::vector<cv::DMatch>& matches, const ImageFeatures& fi,
+                const ImageFeatures& fj, RelativePoseResult* r) {
+  r->inliers = static_cast<int>(used.size());
+  for (int k : used) {
+    r->inlier_pixels_i.push_back(fi.keypoints[matches[k].queryIdx].pt);
+    r->inlier_pixels_j.push_back(fj.keypoints[matches[k].trainIdx].pt);
+  }
+}
+
 RelativePoseResult Estimate(const ImageFeatures& fi, const ImageFeatures& fj, const CameraModel& camera,
                             const CameraFrontendSettings& s) {
   RelativePoseResult r;
@@ -136,28 +230,15 @@ RelativePoseResult Estimate(const ImageFeatures& fi, const ImageFeatures& fj, co
       camera_frontend::MatchDescriptors(fi.descriptors, fj.descriptors, s.matching);
   r.seconds_matching = SecondsSince(t0);
   r.matches = static_cast<int>(matches.size());
-  if (r.matches < s.min_inliers)
-    return fail("too few matches: " + std::to_string(r.matches) + " < min_inliers " +
-                    std::to_string(s.min_inliers) + " (features " + std::to_string(r.features_i) + ", " +
-                    std::to_string(r.features_j) + ")",
-                true);
+  if (r.matches < s.min_inliers) return fail(TooFewMatchesReason(r, s.min_inliers), true);
   Bearings f_i, f_j;
-  for (const auto& m : matches) {
-    f_i.push_back(fi.bearings[m.queryIdx]);
-    f_j.push_back(fj.bearings[m.trainIdx]);
-  }
+  MatchedBearings(matches, fi, fj, &f_i, &f_j);
 
   // 5-point RANSAC, and the rotation-only model, on bearing vectors (paper III-A-1).
   const double pixel = camera_frontend::PixelAngleRad(camera);
   const double threshold = s.ransac.threshold_px * pixel;
   const double loss = s.refinement.loss_scale_px * pixel;
-  t0 = Clock::now();
-  const auto ess = camera_frontend::FivePointRansac(f_i, f_j, s.ransac, threshold);
-  const auto rot = camera_frontend::RotationOnlyRansac(f_i, f_j, s.ransac, threshold);
-  r.seconds_ransac = SecondsSince(t0);
-  r.ransac_inliers = static_cast<int>(ess.inliers.size());
-  r.ransac_iterations = ess.iterations;
-  r.rotation_only_inliers = static_cast<int>(rot.inliers.size());
+  const auto [ess, rot] = RunRansac(f_i, f_j, s, threshold, &r);
 
   // Refinement of the angular error with respect to the epipolar plane (paper III-A-1).
   t0 = Clock::now();
@@ -169,60 +250,24 @@ RelativePoseResult Estimate(const ImageFeatures& fi, const ImageFeatures& fj, co
   const std::vector<int>& support = (model.ok && !rotation_explains_more) ? model.inliers : rot.inliers;
   if (static_cast<int>(support.size()) < s.min_inliers) {
     r.seconds_refinement = SecondsSince(t0);
-    return fail("too few inliers: " + std::to_string(std::max(model.inliers.size(), rot.inliers.size())) +
-                    " < min_inliers " + std::to_string(s.min_inliers) + " (" + std::to_string(r.matches) +
-                    " matches)",
-                true);
+    return fail(TooFewInliersReason(model, rot, s.min_inliers, r.matches), true);
   }
   const auto rotation_fit = camera_frontend::FitRotationOnly(
       f_i, f_j, support, loss, s.refinement.max_iterations, s.refinement.compute_covariance);
   r.seconds_refinement = SecondsSince(t0);
   r.median_parallax_deg = rotation_fit.median_residual_rad * kDeg;
-  double epipolar = 0.0;
-  if (model.ok) {
-    std::vector<double> errors;
-    for (int k : model.inliers)
-      errors.push_back(std::abs(camera_frontend::EpipolarAngle(model.R, model.t, f_i[k], f_j[k])));
-    epipolar = camera_frontend::Median(errors);
-    r.median_epipolar_error_deg = epipolar * kDeg;
-  }
+  const double epipolar = model.ok ? MedianEpipolarError(model, f_i, f_j) : 0.0;
+  if (model.ok) r.median_epipolar_error_deg = epipolar * kDeg;
   const std::string unreliable = TranslationUnreliableReason(
       model, rotation_explains_more, rotation_fit.median_residual_rad, epipolar, pixel, s);
 
   r.valid = true;
-  const std::vector<int>* used = &model.inliers;
   if (unreliable.empty()) {
-    r.R = model.R;
-    r.t_unit = model.t;
-    r.covariance = model.refinement.covariance;
-    r.covariance_valid = model.refinement.covariance_ok;
-    r.refinement_iterations = model.refinement.iterations;
-    r.refinement_converged = model.refinement.converged;
+    UseEssentialModel(model, &r);
+    SetInliers(model.inliers, matches, fi, fj, &r);
   } else {
-    r.translation_unreliable = true;
-    r.failure_reason = "translation unreliable (near-pure rotation): " + unreliable;
-    // The refined essential rotation stays unbiased when a little translation is left, where the
-    // rotation-only fit absorbs the parallax; it is kept unless it is not the rotation-only one (under pure
-    // rotation the chirality test of RANSAC is blind and may pick the twisted pair, 180 degrees away).
-    const bool essential_rotation_ok =
-        model.ok && RotationErrorDeg(model.R, rotation_fit.R) < kMaxRotationDisagreementDeg;
-    r.R = essential_rotation_ok ? model.R : rotation_fit.R;
-    r.t_unit = model.ok ? model.t : Eigen::Vector3d::Zero();
-    r.covariance = Matrix6::Identity();  // uninformative translation block, no cross terms
-    if (essential_rotation_ok && model.refinement.covariance_ok) {
-      r.covariance.block<3, 3>(0, 0) = model.refinement.covariance.block<3, 3>(0, 0);
-      r.covariance_valid = true;
-    } else {
-      r.covariance.block<3, 3>(0, 0) = rotation_fit.covariance;
-      r.covariance_valid = rotation_fit.covariance_ok;
-    }
-    r.refinement_converged = rotation_fit.ok;
-    used = &support;
-  }
-  r.inliers = static_cast<int>(used->size());
-  for (int k : *used) {
-    r.inlier_pixels_i.push_back(fi.keypoints[matches[k].queryIdx].pt);
-    r.inlier_pixels_j.push_back(fj.keypoints[matches[k].trainIdx].pt);
+    UseRotationOnly(model, rotation_fit, unreliable, &r);
+    SetInliers(support, matches, fi, fj, &r);
   }
   return r;
 }

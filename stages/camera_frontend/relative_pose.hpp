@@ -8,7 +8,7 @@
 // Ishikawa, Oishi, Ikeuchi, "LiDAR and Camera Calibration using Motion Estimated by Sensor Fusion Odometry",
 // IROS 2018. Works on unit bearing vectors, so pinhole (with distortion) and equirectangular cameras alike.
 //
-// Convention (DESIGN.md section 2): the result is A = T_ci_cj, the pose of camera j in the frame of camera i:
+// Convention (docs/design.md section 2): the result is A = T_ci_cj, the pose of camera j in the frame of camera i:
 // p_i = R p_j + t. t_unit is the direction of t, the position of camera j seen from camera i (for a camera
 // that moves forward along its optical axis, t_unit is about +z). Translation has no scale.
 //
@@ -22,8 +22,8 @@
 
 #include "camera_frontend/features.hpp"
 #include "camera_frontend/settings.hpp"
-#include "common/camera_model.hpp"
-#include "common/se3.hpp"
+#include "foundation/camera_model.hpp"
+#include "foundation/se3.hpp"
 
 namespace fusecal {
 

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "camera_frontend/covariance.hpp"
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 
 namespace fusecal::camera_frontend {
 

@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
-#include "common/camera_model.hpp"
+#include "foundation/camera_model.hpp"
 
 namespace fusecal::fusion_odometry {
 

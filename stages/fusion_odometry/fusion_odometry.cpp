@@ -96,110 +96,116 @@ void Fail(FusionOdometryResult* result, const std::string& reason) {
   result->failure_reason = reason;
 }
 
-void Run(const PointCloud& scan_i, const cv::Mat& image_i, const cv::Mat& image_j, const CameraModel& camera,
-         const Isometry3& T_camera_lidar, const MotionGuess& guess, const FusionOdometrySettings& settings,
-         FusionOdometryResult* result) {
-  // --- input checks ---
-  if (const std::string e = settings.Validate(); !e.empty()) return Fail(result, "invalid settings: " + e);
-  if (camera.width() <= 0 || camera.height() <= 0) return Fail(result, "camera has no image size");
-  if (std::string e = CheckImage(image_i, camera, "i"); !e.empty()) return Fail(result, e);
-  if (std::string e = CheckImage(image_j, camera, "j"); !e.empty()) return Fail(result, e);
+// Empty when the inputs can be used, else why not (the input checks of Run, in order).
+std::string InputProblem(const PointCloud& scan_i, const cv::Mat& image_i, const cv::Mat& image_j,
+                         const CameraModel& camera, const Isometry3& T_camera_lidar, const MotionGuess& guess,
+                         const FusionOdometrySettings& settings) {
+  if (const std::string e = settings.Validate(); !e.empty()) return "invalid settings: " + e;
+  if (camera.width() <= 0 || camera.height() <= 0) return "camera has no image size";
+  if (std::string e = CheckImage(image_i, camera, "i"); !e.empty()) return e;
+  if (std::string e = CheckImage(image_j, camera, "j"); !e.empty()) return e;
   if (!IsValidTransform(T_camera_lidar, 1e-6))
-    return Fail(result, "invalid extrinsic T_camera_lidar (non-finite or not a rigid transform)");
-  if (!IsValidTransform(guess.T_ci_cj, 1e-6))
-    return Fail(result, "invalid motion guess (non-finite or not a rigid transform)");
-  if (scan_i.empty()) return Fail(result, "empty scan");
+    return "invalid extrinsic T_camera_lidar (non-finite or not a rigid transform)";
+  if (!IsValidTransform(guess.T_ci_cj, 1e-6)) return "invalid motion guess (non-finite or not a rigid transform)";
+  if (scan_i.empty()) return "empty scan";
+  return {};
+}
 
-  const bool wrap = camera.WrapsHorizontally();
-  const double pixel_angle = PixelAngleRad(camera);
-  const double ransac_threshold = settings.ransac.threshold_px * pixel_angle;
-  const int border_px = settings.tracking.window_px / 2 + 1;
-
-  // --- steps 1, 2: visible, trackable scan points in image i ---
-  auto t0 = Clock::now();
-  const cv::Mat grey_i = Grey(image_i), grey_j = Grey(image_j);
+// Steps 1, 2: the visible, trackable scan points in image i (timed from `started`); false (result failed)
+// when none projects or too few are trackable.
+bool SelectPoints(const PointCloud& scan_i, const cv::Mat& grey_i, const CameraModel& camera,
+                  const Isometry3& T_camera_lidar, const FusionOdometrySettings& settings, bool wrap, int border_px,
+                  Clock::time_point started, FusionOdometryResult* result, std::vector<ScanPoint>* selected) {
   const VisibleScan visible = ProjectVisible(scan_i, camera, T_camera_lidar, settings.visibility);
   result->projected_points = visible.projected;
   result->visible_points = static_cast<int>(visible.points.size());
-  if (visible.projected == 0)
-    return Fail(result, "no scan point projects into image i (check the extrinsic T_camera_lidar)");
-  const cv::Mat response = CornerResponse(grey_i, settings.selection.corner_block_size, wrap);
-  const std::vector<ScanPoint> selected = SelectTrackable(visible, response, camera, border_px, settings.selection);
-  result->selected_points = static_cast<int>(selected.size());
-  result->seconds_selection = SecondsSince(t0);
-  if (result->selected_points < settings.min_inliers)
-    return Fail(result, "too few trackable scan points in image i (" + std::to_string(selected.size()) + " of " +
-                            std::to_string(visible.points.size()) + " visible; need " +
-                            std::to_string(settings.min_inliers) + ")");
-
-  // --- step 3: KLT into image j, predicted by the guess ---
-  t0 = Clock::now();
-  TrackedImage tracked_image;
-  cv::Mat grey_j_tracked = grey_j;
-  if (settings.tracking.derotate_min_deg >= 0 &&
-      RotationAngle(guess.T_ci_cj.linear()) * 180.0 / M_PI > settings.tracking.derotate_min_deg) {
-    tracked_image.R_d = guess.T_ci_cj.linear();
-    tracked_image.derotated = true;
-    grey_j_tracked = DerotateImage(grey_j, camera, tracked_image.R_d, settings.tracking.derotation_grid_px);
+  if (visible.projected == 0) {
+    Fail(result, "no scan point projects into image i (check the extrinsic T_camera_lidar)");
+    return false;
   }
-  const KltTracker tracker(grey_i, grey_j_tracked, wrap, border_px, settings.tracking);
-  Correspondences tracks = TrackPass(selected, guess.T_ci_cj, camera, tracker, tracked_image, border_px);
-  result->passes = 1;
-  result->tracked_points = static_cast<int>(tracks.size());
-  result->seconds_tracking = SecondsSince(t0);
-  if (result->tracked_points < settings.min_inliers)
-    return Fail(result, "tracking failed: " + std::to_string(tracks.size()) + " of " +
-                            std::to_string(selected.size()) + " points tracked into image j (need " +
-                            std::to_string(settings.min_inliers) + ")");
+  const cv::Mat response = CornerResponse(grey_i, settings.selection.corner_block_size, wrap);
+  *selected = SelectTrackable(visible, response, camera, border_px, settings.selection);
+  result->selected_points = static_cast<int>(selected->size());
+  result->seconds_selection = SecondsSince(started);
+  if (result->selected_points < settings.min_inliers) {
+    Fail(result, "too few trackable scan points in image i (" + std::to_string(selected->size()) + " of " +
+                     std::to_string(visible.points.size()) + " visible; need " +
+                     std::to_string(settings.min_inliers) + ")");
+    return false;
+  }
+  return true;
+}
 
-  // --- step 4: hypothesis: the guess, or P3P RANSAC when the guess is not trusted ---
-  t0 = Clock::now();
-  std::vector<int> start_inliers = PoseInliers(tracks, guess.T_ci_cj, ransac_threshold);
-  result->guess_inliers = static_cast<int>(start_inliers.size());
-  Isometry3 start = guess.T_ci_cj;
+// Image j as the tracker sees it: resampled with camera i's orientation (R_d = the guess's rotation) when the
+// guess turns the camera by more than derotate_min_deg, else grey_j as it is.
+cv::Mat ImageJForTracking(const cv::Mat& grey_j, const CameraModel& camera, const MotionGuess& guess,
+                          const TrackingSettings& tracking, TrackedImage* tracked_image) {
+  cv::Mat grey_j_tracked = grey_j;
+  if (tracking.derotate_min_deg >= 0 &&
+      RotationAngle(guess.T_ci_cj.linear()) * 180.0 / M_PI > tracking.derotate_min_deg) {
+    tracked_image->R_d = guess.T_ci_cj.linear();
+    tracked_image->derotated = true;
+    grey_j_tracked = DerotateImage(grey_j, camera, tracked_image->R_d, tracking.derotation_grid_px);
+  }
+  return grey_j_tracked;
+}
+
+// The pose the refinement starts from, and the tracks consistent with it.
+struct StartPose {
+  Isometry3 T_ci_cj = Isometry3::Identity();
+  std::vector<int> inliers;
+};
+
+// Step 4: the guess, or the P3P RANSAC pose when RANSAC runs (guess not trusted, or ransac_mode "always")
+// and explains more tracks.
+StartPose ChooseStart(const Correspondences& tracks, const MotionGuess& guess, double ransac_threshold,
+                      const FusionOdometrySettings& settings, FusionOdometryResult* result) {
+  const auto t0 = Clock::now();
+  StartPose start;
+  start.inliers = PoseInliers(tracks, guess.T_ci_cj, ransac_threshold);
+  result->guess_inliers = static_cast<int>(start.inliers.size());
+  start.T_ci_cj = guess.T_ci_cj;
   const bool guess_trusted =
-      guess.reliable && start_inliers.size() >= settings.min_guess_inlier_ratio * tracks.size();
+      guess.reliable && start.inliers.size() >= settings.min_guess_inlier_ratio * tracks.size();
   result->used_ransac = settings.ransac_mode == "always" || (settings.ransac_mode == "auto" && !guess_trusted);
   if (result->used_ransac) {
     const P3pResult p3p = P3pRansac(tracks, ransac_threshold, settings.ransac);
     result->ransac_iterations = p3p.iterations;
     result->ransac_inliers = static_cast<int>(p3p.inliers.size());
-    if (p3p.ok && p3p.inliers.size() > start_inliers.size()) {
-      start = p3p.T_ci_cj;
-      start_inliers = p3p.inliers;
+    if (p3p.ok && p3p.inliers.size() > start.inliers.size()) {
+      start.T_ci_cj = p3p.T_ci_cj;
+      start.inliers = p3p.inliers;
     }
   }
   result->seconds_ransac = SecondsSince(t0);
-  if (static_cast<int>(start_inliers.size()) < 4)
-    return Fail(result, "no motion explains the tracks (" + std::to_string(result->ransac_inliers) +
-                            " RANSAC inliers, " + std::to_string(result->guess_inliers) + " consistent with the guess, of " +
-                            std::to_string(tracks.size()) + " tracks)");
+  return start;
+}
 
-  // --- step 5: robust refinement of the angular error ---
+// After a RANSAC start: tracks again with the refined pose as the prediction and refines again; the second
+// pass replaces *refined and *tracks when it keeps at least as many inliers.
+void RetrackAndRefine(const std::vector<ScanPoint>& selected, const CameraModel& camera, const KltTracker& tracker,
+                      const TrackedImage& tracked_image, int border_px, double ransac_threshold, double pixel_angle,
+                      const FusionOdometrySettings& settings, FusionOdometryResult* result,
+                      RefinementResult* refined, Correspondences* tracks) {
+  auto t0 = Clock::now();
+  Correspondences tracks2 = TrackPass(selected, refined->T_ci_cj, camera, tracker, tracked_image, border_px);
+  result->seconds_tracking += SecondsSince(t0);
   t0 = Clock::now();
-  RefinementResult refined = RefinePose(tracks, start, start_inliers, pixel_angle, settings.refinement);
-  result->seconds_refinement = SecondsSince(t0);
-  if (!refined.ok) return Fail(result, refined.message);
-
-  // --- after a RANSAC start: track again with the estimate as the prediction, refine again ---
-  if (result->used_ransac && settings.retrack) {
-    t0 = Clock::now();
-    Correspondences tracks2 = TrackPass(selected, refined.T_ci_cj, camera, tracker, tracked_image, border_px);
-    result->seconds_tracking += SecondsSince(t0);
-    t0 = Clock::now();
-    const std::vector<int> inliers2 = PoseInliers(tracks2, refined.T_ci_cj, ransac_threshold);
-    RefinementResult refined2 = RefinePose(tracks2, refined.T_ci_cj, inliers2, pixel_angle, settings.refinement);
-    result->seconds_refinement += SecondsSince(t0);
-    if (refined2.ok && refined2.inliers.size() >= refined.inliers.size()) {
-      refined2.iterations += refined.iterations;
-      refined = std::move(refined2);
-      tracks = std::move(tracks2);
-      result->passes = 2;
-      result->tracked_points = static_cast<int>(tracks.size());
-    }
+  const std::vector<int> inliers2 = PoseInliers(tracks2, refined->T_ci_cj, ransac_threshold);
+  RefinementResult refined2 = RefinePose(tracks2, refined->T_ci_cj, inliers2, pixel_angle, settings.refinement);
+  result->seconds_refinement += SecondsSince(t0);
+  if (refined2.ok && refined2.inliers.size() >= refined->inliers.size()) {
+    refined2.iterations += refined->iterations;
+    *refined = std::move(refined2);
+    *tracks = std::move(tracks2);
+    result->passes = 2;
+    result->tracked_points = static_cast<int>(tracks->size());
   }
+}
 
-  // --- result ---
+// The result from the final refinement: pose, figures, inlier correspondences and the inlier verdict.
+void SetResult(const RefinementResult& refined, const Correspondences& tracks, double pixel_angle,
+               const FusionOdometrySettings& settings, FusionOdometryResult* result) {
   result->T_ci_cj = refined.T_ci_cj;
   result->inliers = static_cast<int>(refined.inliers.size());
   result->refinement_iterations = refined.iterations;
@@ -222,6 +228,62 @@ void Run(const PointCloud& scan_i, const cv::Mat& image_i, const cv::Mat& image_
     result->status = status::kConverged;
     result->converged = true;
   }
+}
+
+void Run(const PointCloud& scan_i, const cv::Mat& image_i, const cv::Mat& image_j, const CameraModel& camera,
+         const Isometry3& T_camera_lidar, const MotionGuess& guess, const FusionOdometrySettings& settings,
+         FusionOdometryResult* result) {
+  // --- input checks ---
+  if (const std::string e = InputProblem(scan_i, image_i, image_j, camera, T_camera_lidar, guess, settings);
+      !e.empty())
+    return Fail(result, e);
+
+  const bool wrap = camera.WrapsHorizontally();
+  const double pixel_angle = PixelAngleRad(camera);
+  const double ransac_threshold = settings.ransac.threshold_px * pixel_angle;
+  const int border_px = settings.tracking.window_px / 2 + 1;
+
+  // --- steps 1, 2: visible, trackable scan points in image i ---
+  auto t0 = Clock::now();
+  const cv::Mat grey_i = Grey(image_i), grey_j = Grey(image_j);
+  std::vector<ScanPoint> selected;
+  if (!SelectPoints(scan_i, grey_i, camera, T_camera_lidar, settings, wrap, border_px, t0, result, &selected))
+    return;
+
+  // --- step 3: KLT into image j, predicted by the guess ---
+  t0 = Clock::now();
+  TrackedImage tracked_image;
+  const cv::Mat grey_j_tracked = ImageJForTracking(grey_j, camera, guess, settings.tracking, &tracked_image);
+  const KltTracker tracker(grey_i, grey_j_tracked, wrap, border_px, settings.tracking);
+  Correspondences tracks = TrackPass(selected, guess.T_ci_cj, camera, tracker, tracked_image, border_px);
+  result->passes = 1;
+  result->tracked_points = static_cast<int>(tracks.size());
+  result->seconds_tracking = SecondsSince(t0);
+  if (result->tracked_points < settings.min_inliers)
+    return Fail(result, "tracking failed: " + std::to_string(tracks.size()) + " of " +
+                            std::to_string(selected.size()) + " points tracked into image j (need " +
+                            std::to_string(settings.min_inliers) + ")");
+
+  // --- step 4: hypothesis: the guess, or P3P RANSAC when the guess is not trusted ---
+  const StartPose start = ChooseStart(tracks, guess, ransac_threshold, settings, result);
+  if (static_cast<int>(start.inliers.size()) < 4)
+    return Fail(result, "no motion explains the tracks (" + std::to_string(result->ransac_inliers) +
+                            " RANSAC inliers, " + std::to_string(result->guess_inliers) + " consistent with the guess, of " +
+                            std::to_string(tracks.size()) + " tracks)");
+
+  // --- step 5: robust refinement of the angular error ---
+  t0 = Clock::now();
+  RefinementResult refined = RefinePose(tracks, start.T_ci_cj, start.inliers, pixel_angle, settings.refinement);
+  result->seconds_refinement = SecondsSince(t0);
+  if (!refined.ok) return Fail(result, refined.message);
+
+  // --- after a RANSAC start: track again with the estimate as the prediction, refine again ---
+  if (result->used_ransac && settings.retrack)
+    RetrackAndRefine(selected, camera, tracker, tracked_image, border_px, ransac_threshold, pixel_angle, settings,
+                     result, &refined, &tracks);
+
+  // --- result ---
+  SetResult(refined, tracks, pixel_angle, settings, result);
 }
 
 }  // namespace

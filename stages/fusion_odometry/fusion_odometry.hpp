@@ -13,7 +13,7 @@
 //      under the refined pose (pose_refinement.hpp); after a RANSAC start, tracked again with the estimate
 //      as the prediction and refined again.
 //
-// Conventions (DESIGN.md section 2): X = T_camera_lidar; the result is A = T_ci_cj, the pose of camera j in
+// Conventions (docs/design.md section 2): X = T_camera_lidar; the result is A = T_ci_cj, the pose of camera j in
 // the frame of camera i, p_ci = A p_cj. A LiDAR motion B = T_li_lj predicts A = X B X^-1 (A X = X B).
 // No LCM, no file I/O. Never throws: every problem ends up in status and failure_reason.
 #pragma once
@@ -22,9 +22,9 @@
 #include <string>
 #include <vector>
 
-#include "common/camera_model.hpp"
-#include "common/point_cloud.hpp"
-#include "common/se3.hpp"
+#include "foundation/camera_model.hpp"
+#include "foundation/point_cloud.hpp"
+#include "foundation/se3.hpp"
 #include "fusion_odometry/settings.hpp"
 #include "fusion_odometry/types.hpp"
 

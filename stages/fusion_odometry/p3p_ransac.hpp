@@ -10,7 +10,7 @@
 
 #include <vector>
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 #include "fusion_odometry/settings.hpp"
 #include "fusion_odometry/types.hpp"
 

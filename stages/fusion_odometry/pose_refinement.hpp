@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 #include "fusion_odometry/settings.hpp"
 #include "fusion_odometry/types.hpp"
 

@@ -8,7 +8,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "common/camera_model.hpp"
+#include "foundation/camera_model.hpp"
 #include "fusion_odometry/settings.hpp"
 #include "fusion_odometry/types.hpp"
 #include "fusion_odometry/visibility.hpp"

@@ -1,6 +1,6 @@
 // Data passed between the steps of the sensor fusion odometry (paper section III-B-1).
 //
-// Conventions (DESIGN.md section 2): X = T_camera_lidar maps LiDAR points into the camera frame; the camera
+// Conventions (docs/design.md section 2): X = T_camera_lidar maps LiDAR points into the camera frame; the camera
 // motion is A = T_ci_cj, the pose of camera j in the frame of camera i: p_ci = A p_cj. A scan point of
 // station i in camera frame i is p_ci = X p_li, and in camera j p_cj = A^-1 p_ci.
 #pragma once
@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "common/camera_model.hpp"
+#include "foundation/camera_model.hpp"
 
 namespace fusecal::fusion_odometry {
 

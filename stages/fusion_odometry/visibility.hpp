@@ -14,9 +14,9 @@
 
 #include <vector>
 
-#include "common/camera_model.hpp"
-#include "common/point_cloud.hpp"
-#include "common/se3.hpp"
+#include "foundation/camera_model.hpp"
+#include "foundation/point_cloud.hpp"
+#include "foundation/se3.hpp"
 #include "fusion_odometry/settings.hpp"
 #include "fusion_odometry/types.hpp"
 

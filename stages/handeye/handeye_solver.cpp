@@ -239,6 +239,54 @@ HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEy
   return r;
 }
 
+// Index of the pair to reject in the scaleless solve, or -1: a residual outlier (FindResidualOutlier), else
+// the pair with the most negative scale (unless the rotation about the axes is weak); *why says why.
+int FindScalelessOutlier(const Working& w, const RefineOutput& est, const LinearTranslation& lt,
+                         const NoiseModel& nominal, const HandEyeSettings& s, std::string* why) {
+  // With (nearly) parallel axes the rotation about the axis is arbitrary, and so are the translation
+  // residuals: only the rotation residuals can point at an outlier then.
+  Eigen::Vector3d axis_b;
+  const bool rotation_weak = WeakestRotationFromAxes(w.pairs, est.R, nominal, &axis_b) * kRadToDeg >
+                             s.max_rotation_std_deg;
+  std::vector<double> rot_deg, trans_m;
+  for (int k = 0; k < w.size(); ++k) {
+    rot_deg.push_back(RotationResidual(w.pairs[k], est.R).norm() * kRadToDeg);
+    trans_m.push_back(rotation_weak ? 0.0 : lt.residuals[k].norm());
+  }
+  int k = FindResidualOutlier(rot_deg, trans_m, s, why);
+  if (k < 0 && !rotation_weak) {
+    // A negative scale means the camera translation points against the LiDAR's (a flipped direction).
+    double most_negative = 0.0;
+    for (int j = 0; j < w.size(); ++j)
+      if (lt.scales[j] < most_negative) most_negative = lt.scales[k = j];
+    if (k >= 0) *why = "negative scale " + std::to_string(lt.scales[k]) + " (camera translation direction flipped)";
+  }
+  return k;
+}
+
+// The per-pair scales and their standard deviations, from the rotation covariance C_rr, the linear
+// translation covariance C_tt_linear and the residual variance var_t.
+void SetScales(const Working& w, const Eigen::Matrix3d& R, const LinearTranslation& lt, const Eigen::Matrix3d& C_rr,
+               const Eigen::Matrix3d& C_tt_linear, double var_t, HandEyeResult* r) {
+  const Eigen::Matrix3d& G = lt.dt_drot;
+  // Scales: s_i = u^T (R Exp(d) t_b - A_i t) / |t_a| + e_i / |t_a|.
+  for (int k = 0; k < w.size(); ++k) {
+    const MotionPair& p = w.pairs[k];
+    const double ta = p.A.translation().norm();
+    r->scales.push_back(lt.scales[k]);
+    if (ta <= 1e-12) {
+      r->scale_std_devs.push_back(0.0);
+      continue;
+    }
+    const Eigen::Vector3d u = p.A.translation() / ta;
+    const Eigen::Matrix3d A = p.A.linear() - Eigen::Matrix3d::Identity();
+    const Eigen::RowVector3d g = -u.transpose() * R * Skew(p.B.translation()) - u.transpose() * A * G;
+    const Eigen::RowVector3d a = u.transpose() * A;
+    const double var = (g * C_rr * g.transpose())(0) + (a * C_tt_linear * a.transpose())(0) + var_t;
+    r->scale_std_devs.push_back(std::sqrt(std::max(var, 0.0)) / ta);
+  }
+}
+
 HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const HandEyeSettings& s,
                                  const Isometry3* initial) {
   HandEyeResult r;
@@ -256,25 +304,8 @@ HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const Han
     r.iterations += est.iterations;
     lt = SolveTranslation(w.pairs, est.R, true, prior);
     if (!s.reject_outliers || w.size() < 3) break;
-    // With (nearly) parallel axes the rotation about the axis is arbitrary, and so are the translation
-    // residuals: only the rotation residuals can point at an outlier then.
-    Eigen::Vector3d axis_b;
-    const bool rotation_weak = WeakestRotationFromAxes(w.pairs, est.R, nominal, &axis_b) * kRadToDeg >
-                               s.max_rotation_std_deg;
-    std::vector<double> rot_deg, trans_m;
-    for (int k = 0; k < w.size(); ++k) {
-      rot_deg.push_back(RotationResidual(w.pairs[k], est.R).norm() * kRadToDeg);
-      trans_m.push_back(rotation_weak ? 0.0 : lt.residuals[k].norm());
-    }
     std::string why;
-    int k = FindResidualOutlier(rot_deg, trans_m, s, &why);
-    if (k < 0 && !rotation_weak) {
-      // A negative scale means the camera translation points against the LiDAR's (a flipped direction).
-      double most_negative = 0.0;
-      for (int j = 0; j < w.size(); ++j)
-        if (lt.scales[j] < most_negative) most_negative = lt.scales[k = j];
-      if (k >= 0) why = "negative scale " + std::to_string(lt.scales[k]) + " (camera translation direction flipped)";
-    }
+    const int k = FindScalelessOutlier(w, est, lt, nominal, s, &why);
     if (k < 0) break;
     r.rejected_pairs.push_back(MakeRejected(input, w.index[k], why));
     w.Remove(k);
@@ -311,22 +342,7 @@ HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const Han
   Matrix6 C;
   C << C_rr, C_rr * G.transpose(), G * C_rr, C_tt_linear + G * C_rr * G.transpose();
 
-  // Scales: s_i = u^T (R Exp(d) t_b - A_i t) / |t_a| + e_i / |t_a|.
-  for (int k = 0; k < w.size(); ++k) {
-    const MotionPair& p = w.pairs[k];
-    const double ta = p.A.translation().norm();
-    r.scales.push_back(lt.scales[k]);
-    if (ta <= 1e-12) {
-      r.scale_std_devs.push_back(0.0);
-      continue;
-    }
-    const Eigen::Vector3d u = p.A.translation() / ta;
-    const Eigen::Matrix3d A = p.A.linear() - Eigen::Matrix3d::Identity();
-    const Eigen::RowVector3d g = -u.transpose() * est.R * Skew(p.B.translation()) - u.transpose() * A * G;
-    const Eigen::RowVector3d a = u.transpose() * A;
-    const double var = (g * C_rr * g.transpose())(0) + (a * C_tt_linear * a.transpose())(0) + var_t;
-    r.scale_std_devs.push_back(std::sqrt(std::max(var, 0.0)) / ta);
-  }
+  SetScales(w, est.R, lt, C_rr, C_tt_linear, var_t, &r);
 
   SetCovariance(Inflate(C, obs, est.R), &r);
   Finish(w, input, s, obs, est, lt.scales, &r);

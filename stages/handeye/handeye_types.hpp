@@ -1,7 +1,7 @@
 // Public types of the hand-eye solver core: input motion pairs, settings, result.
 //
 // Method: Ishikawa, Oishi, Ikeuchi, "LiDAR and Camera Calibration using Motion Estimated by Sensor Fusion
-// Odometry", IROS 2018 (DESIGN.md section 1, steps 3 and 5). For every motion i between two stations,
+// Odometry", IROS 2018 (docs/design.md section 1, steps 3 and 5). For every motion i between two stations,
 //   A_i X = X B_i,   A_i = T_ci_cj (camera), B_i = T_li_lj (LiDAR), X = T_camera_lidar,
 // which splits into  R_a R = R R_b  (rotation)  and  R_a t + t_a = R t_b + t  (translation).
 // No LCM, no file I/O here.
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 
 namespace fusecal {
 

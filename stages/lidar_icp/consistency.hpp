@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 
 namespace fusecal::lidar_icp {
 

@@ -3,7 +3,7 @@
 // [rotation (rad); translation (m)] of the right perturbation T * Exp(d).
 #pragma once
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 #include "lidar_icp/icp.hpp"
 
 namespace fusecal::lidar_icp {

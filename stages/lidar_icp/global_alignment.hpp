@@ -13,7 +13,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 #include "lidar_icp/distance_field.hpp"
 
 namespace fusecal::lidar_icp {

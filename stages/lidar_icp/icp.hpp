@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 #include "lidar_icp/preprocess.hpp"
 
 namespace fusecal::lidar_icp {

@@ -7,7 +7,7 @@
 #include <memory>
 #include <vector>
 
-#include "common/point_cloud.hpp"
+#include "foundation/point_cloud.hpp"
 #include "lidar_icp/kdtree.hpp"
 
 namespace fusecal::lidar_icp {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "common/point_cloud.hpp"
+#include "foundation/point_cloud.hpp"
 #include "stationarity/settings.hpp"
 
 namespace fusecal {

@@ -80,7 +80,6 @@ std::vector<DetectedStation> StationarityDetector::AddImage(int64_t utime, const
   camera_.last_utime = utime;
 
   auto frame = std::make_shared<const ImageFrame>(PrepareImage(utime, image, settings_.image));
-  const ImageMotionSettings& is = settings_.image;
   if (!frame->textured) {
     // Black, blank or featureless frame: stillness cannot be decided, and it cannot be a station image.
     ++counters_.images_without_texture;
@@ -101,40 +100,48 @@ std::vector<DetectedStation> StationarityDetector::AddImage(int64_t utime, const
     image_flow_px_ = image_drift_px_ = NAN;
     image_tracks_ = 0;
   } else {
-    const ImageFlow flow = MeasureFlow(*prev_image_, *frame, is);
-    const ImageFlow drift = anchor_image_ == prev_image_ ? flow : MeasureFlow(*anchor_image_, *frame, is);
-    image_flow_px_ = flow.valid ? flow.median_px : NAN;
-    image_drift_px_ = drift.valid ? drift.median_px : NAN;
-    image_tracks_ = flow.tracks;
-    if (!flow.valid || !drift.valid) ++counters_.images_untracked;
-    const bool still = flow.valid && drift.valid && flow.median_px <= is.still_flow_px &&
-                       drift.median_px <= is.max_drift_px;
-    if (still) {
-      if (!camera_.still) {
-        camera_.still = true;
-        camera_.still_since = anchor_image_->utime;
-      }
-      camera_.reason.clear();
-      images_.push_back({utime, image.clone(), frame});
-    } else {
-      camera_.still = false;
-      if (!flow.valid)
-        camera_.reason = "image " + flow.problem;
-      else if (flow.median_px > is.still_flow_px)
-        camera_.reason = Format("image flow %.3f px > %.3f px", flow.median_px, is.still_flow_px);
-      else if (!drift.valid)
-        camera_.reason = "image, from the anchor: " + drift.problem;
-      else
-        camera_.reason = Format("image drift %.3f px > %.3f px since the run began", drift.median_px,
-                                is.max_drift_px);
-      anchor_image_ = frame;
-      images_.clear();
-      images_.push_back({utime, image.clone(), frame});
-    }
-    prev_image_ = frame;
+    JudgeImageMotion(utime, image, frame);
   }
   Prune();
   return Evaluate(false);
+}
+
+// A textured frame following the previous one without a gap: still when the flow from the previous frame and
+// the drift from the anchor are small, else it becomes the anchor of a new run (camera_.reason says why).
+void StationarityDetector::JudgeImageMotion(int64_t utime, const cv::Mat& image,
+                                            const std::shared_ptr<const ImageFrame>& frame) {
+  const ImageMotionSettings& is = settings_.image;
+  const ImageFlow flow = MeasureFlow(*prev_image_, *frame, is);
+  const ImageFlow drift = anchor_image_ == prev_image_ ? flow : MeasureFlow(*anchor_image_, *frame, is);
+  image_flow_px_ = flow.valid ? flow.median_px : NAN;
+  image_drift_px_ = drift.valid ? drift.median_px : NAN;
+  image_tracks_ = flow.tracks;
+  if (!flow.valid || !drift.valid) ++counters_.images_untracked;
+  const bool still = flow.valid && drift.valid && flow.median_px <= is.still_flow_px &&
+                     drift.median_px <= is.max_drift_px;
+  if (still) {
+    if (!camera_.still) {
+      camera_.still = true;
+      camera_.still_since = anchor_image_->utime;
+    }
+    camera_.reason.clear();
+    images_.push_back({utime, image.clone(), frame});
+  } else {
+    camera_.still = false;
+    if (!flow.valid)
+      camera_.reason = "image " + flow.problem;
+    else if (flow.median_px > is.still_flow_px)
+      camera_.reason = Format("image flow %.3f px > %.3f px", flow.median_px, is.still_flow_px);
+    else if (!drift.valid)
+      camera_.reason = "image, from the anchor: " + drift.problem;
+    else
+      camera_.reason = Format("image drift %.3f px > %.3f px since the run began", drift.median_px,
+                              is.max_drift_px);
+    anchor_image_ = frame;
+    images_.clear();
+    images_.push_back({utime, image.clone(), frame});
+  }
+  prev_image_ = frame;
 }
 
 std::vector<DetectedStation> StationarityDetector::AddScan(int64_t utime, const PointCloud& cloud) {
@@ -253,14 +260,7 @@ std::optional<DetectedStation> StationarityDetector::TryEmit(int64_t from, int64
   // The pair closest in time inside [from, to]; among those within pair_tie_s of the closest, the latest
   // (furthest from the motion that ended the previous run).
   const int64_t max_dt = ToMicros(settings_.max_pair_dt_s), tie = ToMicros(settings_.pair_tie_s);
-  int64_t best_dt = std::numeric_limits<int64_t>::max();
-  for (const auto& im : images_) {
-    if (im.utime < from || im.utime > to) continue;
-    for (const auto& sc : scans_) {
-      if (sc.utime < from || sc.utime > to) continue;
-      best_dt = std::min(best_dt, std::abs(im.utime - sc.utime));
-    }
-  }
+  const int64_t best_dt = ClosestPairDt(from, to);
   if (best_dt > max_dt) {
     if (!run_unpaired_counted_) {
       ++counters_.still_runs_unpaired;
@@ -270,6 +270,38 @@ std::optional<DetectedStation> StationarityDetector::TryEmit(int64_t from, int64
                    " of each other yet";
     return std::nullopt;
   }
+  const auto [best_image, best_scan] = LatestPairNearClosest(from, to, best_dt, tie);
+
+  if (reference_ && !MovedSinceLastStation(*best_image, *best_scan)) {
+    ++counters_.stations_same_place;
+    MarkRunHandled("still at the place of station " + std::to_string(next_id_ - 1) +
+                   " (the rig has not moved since)");
+    return std::nullopt;
+  }
+
+  DetectedStation s = BuildStation(*best_image, *best_scan, from, to);
+  reference_ = Reference{best_image->frame, best_scan->range};
+  ++counters_.stations_emitted;
+  MarkRunHandled("still, station " + std::to_string(s.id) + " emitted");
+  return s;
+}
+
+// The smallest |image utime - scan utime| over the buffered pairs inside [from, to] (int64 max when none).
+int64_t StationarityDetector::ClosestPairDt(int64_t from, int64_t to) const {
+  int64_t best_dt = std::numeric_limits<int64_t>::max();
+  for (const auto& im : images_) {
+    if (im.utime < from || im.utime > to) continue;
+    for (const auto& sc : scans_) {
+      if (sc.utime < from || sc.utime > to) continue;
+      best_dt = std::min(best_dt, std::abs(im.utime - sc.utime));
+    }
+  }
+  return best_dt;
+}
+
+// Among the pairs inside [from, to] at most best_dt + tie apart, the latest (ties: the closer in time).
+std::pair<const StationarityDetector::BufferedImage*, const StationarityDetector::BufferedScan*>
+StationarityDetector::LatestPairNearClosest(int64_t from, int64_t to, int64_t best_dt, int64_t tie) const {
   const BufferedImage* best_image = nullptr;
   const BufferedScan* best_scan = nullptr;
   int64_t best_later = std::numeric_limits<int64_t>::min(), chosen_dt = 0;
@@ -288,79 +320,82 @@ std::optional<DetectedStation> StationarityDetector::TryEmit(int64_t from, int64
       }
     }
   }
+  return {best_image, best_scan};
+}
 
-  if (reference_ && !MovedSinceLastStation(*best_image, *best_scan)) {
-    ++counters_.stations_same_place;
-    run_handled_ = true;
-    run_outcome_ = "still at the place of station " + std::to_string(next_id_ - 1) +
-                   " (the rig has not moved since)";
-    KeepNewest(&images_, 1);
-    KeepNewest(&scans_, 1);
-    return std::nullopt;
-  }
-
+// The station of the chosen pair (takes the next id): times, image, merged cloud, drift since the anchors.
+DetectedStation StationarityDetector::BuildStation(const BufferedImage& best_image, const BufferedScan& best_scan,
+                                                   int64_t from, int64_t to) {
   DetectedStation s;
   s.id = next_id_++;
-  s.image_utime = best_image->utime;
-  s.scan_utime = best_scan->utime;
+  s.image_utime = best_image.utime;
+  s.scan_utime = best_scan.utime;
   s.utime = std::max(s.image_utime, s.scan_utime);
   s.still_from = from;
   s.still_to = to;
-  s.image = best_image->image;  // already a private copy
+  s.image = best_image.image;  // already a private copy
 
   // Scans to merge: the chosen one and the still scans just before it.
   std::vector<const BufferedScan*> merged;
   for (auto it = scans_.rbegin(); it != scans_.rend() && static_cast<int>(merged.size()) < settings_.merge_scans;
        ++it) {
-    if (it->utime > best_scan->utime || it->utime < from) continue;
+    if (it->utime > best_scan.utime || it->utime < from) continue;
     merged.push_back(&*it);
   }
   std::reverse(merged.begin(), merged.end());
-  if (merged.size() == 1) {
-    s.cloud = *best_scan->cloud;
-  } else {
-    size_t total = 0;
-    bool intensity = true, ring = true, time = true;
-    for (const BufferedScan* m : merged) {
-      const PointCloud& c = *m->cloud;
-      total += c.size();
-      intensity = intensity && c.intensity.size() == c.size();
-      ring = ring && c.ring.size() == c.size();
-      time = time && c.time_offset_s.size() == c.size();
-    }
-    s.cloud.points.reserve(total);
-    for (const BufferedScan* m : merged) {
-      const PointCloud& c = *m->cloud;
-      s.cloud.points.insert(s.cloud.points.end(), c.points.begin(), c.points.end());
-      if (intensity) s.cloud.intensity.insert(s.cloud.intensity.end(), c.intensity.begin(), c.intensity.end());
-      if (ring) s.cloud.ring.insert(s.cloud.ring.end(), c.ring.begin(), c.ring.end());
-      if (time) {
-        // time_offset_s is relative to the station's scan time.
-        const float shift = static_cast<float>((m->utime - best_scan->utime) * 1e-6);
-        for (float t : c.time_offset_s) s.cloud.time_offset_s.push_back(t + shift);
-      }
-    }
-  }
+  MergeScanClouds(merged, best_scan, &s.cloud);
   for (const BufferedScan* m : merged) s.merged_scan_utimes.push_back(m->utime);
 
   s.image_drift_px = NAN;
   if (anchor_image_) {
-    const ImageFlow drift = MeasureFlow(*anchor_image_, *best_image->frame, settings_.image);
+    const ImageFlow drift = MeasureFlow(*anchor_image_, *best_image.frame, settings_.image);
     if (drift.valid) s.image_drift_px = drift.median_px;
   }
   s.lidar_change_m = NAN;
   if (anchor_range_) {
-    const LidarChange change = CompareRangeImages(*anchor_range_, *best_scan->range, settings_.lidar);
+    const LidarChange change = CompareRangeImages(*anchor_range_, *best_scan.range, settings_.lidar);
     if (change.valid) s.lidar_change_m = change.change_m;
   }
+  return s;
+}
 
-  reference_ = Reference{best_image->frame, best_scan->range};
-  ++counters_.stations_emitted;
+// The clouds of `merged` (oldest first) concatenated into *cloud; intensity, ring and time offsets only when
+// every merged cloud has them. A single scan is copied as it is.
+void StationarityDetector::MergeScanClouds(const std::vector<const BufferedScan*>& merged,
+                                           const BufferedScan& best_scan, PointCloud* cloud) {
+  if (merged.size() == 1) {
+    *cloud = *best_scan.cloud;
+    return;
+  }
+  size_t total = 0;
+  bool intensity = true, ring = true, time = true;
+  for (const BufferedScan* m : merged) {
+    const PointCloud& c = *m->cloud;
+    total += c.size();
+    intensity = intensity && c.intensity.size() == c.size();
+    ring = ring && c.ring.size() == c.size();
+    time = time && c.time_offset_s.size() == c.size();
+  }
+  cloud->points.reserve(total);
+  for (const BufferedScan* m : merged) {
+    const PointCloud& c = *m->cloud;
+    cloud->points.insert(cloud->points.end(), c.points.begin(), c.points.end());
+    if (intensity) cloud->intensity.insert(cloud->intensity.end(), c.intensity.begin(), c.intensity.end());
+    if (ring) cloud->ring.insert(cloud->ring.end(), c.ring.begin(), c.ring.end());
+    if (time) {
+      // time_offset_s is relative to the station's scan time.
+      const float shift = static_cast<float>((m->utime - best_scan.utime) * 1e-6);
+      for (float t : c.time_offset_s) cloud->time_offset_s.push_back(t + shift);
+    }
+  }
+}
+
+// The current run is done (emitted or suppressed): records the outcome and drops its buffered frames.
+void StationarityDetector::MarkRunHandled(const std::string& outcome) {
   run_handled_ = true;
-  run_outcome_ = "still, station " + std::to_string(s.id) + " emitted";
+  run_outcome_ = outcome;
   KeepNewest(&images_, 1);
   KeepNewest(&scans_, 1);
-  return s;
 }
 
 bool StationarityDetector::MovedSinceLastStation(const BufferedImage& image, const BufferedScan& scan) const {

@@ -25,9 +25,10 @@
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
-#include "common/point_cloud.hpp"
+#include "foundation/point_cloud.hpp"
 #include "stationarity/image_motion.hpp"
 #include "stationarity/range_image.hpp"
 #include "stationarity/settings.hpp"
@@ -145,6 +146,16 @@ class StationarityDetector {
   void Prune();
   std::vector<DetectedStation> Evaluate(bool flushing);
   std::optional<DetectedStation> TryEmit(int64_t from, int64_t to);
+  // Steps of AddImage and TryEmit (see the .cpp).
+  void JudgeImageMotion(int64_t utime, const cv::Mat& image, const std::shared_ptr<const ImageFrame>& frame);
+  int64_t ClosestPairDt(int64_t from, int64_t to) const;
+  std::pair<const BufferedImage*, const BufferedScan*> LatestPairNearClosest(int64_t from, int64_t to,
+                                                                             int64_t best_dt, int64_t tie) const;
+  DetectedStation BuildStation(const BufferedImage& best_image, const BufferedScan& best_scan, int64_t from,
+                               int64_t to);
+  static void MergeScanClouds(const std::vector<const BufferedScan*>& merged, const BufferedScan& best_scan,
+                              PointCloud* cloud);
+  void MarkRunHandled(const std::string& outcome);
   bool MovedSinceLastStation(const BufferedImage& image, const BufferedScan& scan) const;
   void Reject(const std::string& reason) { last_rejection_ = reason; }
 

@@ -8,7 +8,7 @@
 
 #include "../runtime/process_utils.hpp"
 #include "handeye/synthetic_motions.hpp"
-#include "runtime/result_file.hpp"
+#include "formats/result_file.hpp"
 
 namespace fusecal {
 namespace {

@@ -12,9 +12,9 @@
 #include <thread>
 
 #include "../runtime/process_utils.hpp"
-#include "common/extrinsic_error.hpp"
-#include "runtime/ground_truth.hpp"
-#include "runtime/result_file.hpp"
+#include "foundation/extrinsic_error.hpp"
+#include "formats/ground_truth.hpp"
+#include "formats/result_file.hpp"
 #include "runtime/shared_memory.hpp"
 
 namespace fusecal {

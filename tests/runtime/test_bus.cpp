@@ -5,7 +5,7 @@
 #include "fusecal/image_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
-#include "runtime/conversions.hpp"
+#include "formats/conversions.hpp"
 #include "sample_messages.hpp"
 
 namespace fusecal {
@@ -55,6 +55,19 @@ TEST(MemqBus, HandlerExceptionSurfacesFromHandle) {
   bus->PublishRaw("OK", "y", 1);
   bus->Handle(100);
   EXPECT_EQ(count, 1);
+}
+
+// In one process (calibrate), a stage that cannot use a message must not keep it from the others.
+TEST(MemqBus, AFailingHandlerDoesNotKeepTheMessageFromTheOthers) {
+  auto bus = MakeBus("memq://");
+  int before = 0, after = 0;
+  auto first = bus->SubscribeRaw("STATION", [&](const RawMessage&) { ++before; });
+  auto failing = bus->SubscribeRaw("STATION", [](const RawMessage&) { throw std::runtime_error("bad scan"); });
+  auto last = bus->SubscribeRaw("STATION", [&](const RawMessage&) { ++after; });
+  bus->PublishRaw("STATION", "x", 1);
+  EXPECT_THROW(bus->Handle(100), std::runtime_error);
+  EXPECT_EQ(before, 1);
+  EXPECT_EQ(after, 1) << "the message must reach every handler despite the error";
 }
 
 TEST(MemqBus, WrongTypeOnChannelIsAClearError) {

@@ -69,7 +69,7 @@ TEST(Config, RequiredKeysAndSyntaxErrors) {
 }  // namespace
 }  // namespace fusecal
 
-#include "runtime/camera_file.hpp"
+#include "formats/camera_file.hpp"
 
 namespace fusecal {
 namespace {

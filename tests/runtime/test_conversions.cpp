@@ -2,7 +2,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "runtime/conversions.hpp"
+#include "formats/conversions.hpp"
 
 namespace fusecal {
 namespace {

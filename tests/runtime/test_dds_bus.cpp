@@ -16,7 +16,7 @@
 #include "fusecal/image_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
-#include "runtime/conversions.hpp"
+#include "formats/conversions.hpp"
 #include "runtime/dds/dds_bus.hpp"
 #include "runtime/shared_memory.hpp"
 #include "sample_messages.hpp"

@@ -13,8 +13,8 @@
 #include "kitti.hpp"
 #include "process_utils.hpp"
 #include "runtime/channels.hpp"
-#include "runtime/conversions.hpp"
-#include "runtime/ground_truth.hpp"
+#include "formats/conversions.hpp"
+#include "formats/ground_truth.hpp"
 #include "scan_io/scan_io.hpp"
 #include "visualization/overlay.hpp"
 

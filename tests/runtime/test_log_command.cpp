@@ -9,7 +9,7 @@
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "process_utils.hpp"
-#include "runtime/conversions.hpp"
+#include "formats/conversions.hpp"
 #include "runtime/lcm_log.hpp"
 
 namespace fusecal {
@@ -31,7 +31,7 @@ std::string WriteSampleLog() {
   writer.WriteMessage("STATION", station.utime, station);
   extrinsic_t extrinsic{};
   extrinsic.version = 2;
-  extrinsic.status = "converged";
+  extrinsic.status = extrinsic_t::STATUS_CONVERGED;
   extrinsic.T_camera_lidar[0] = extrinsic.T_camera_lidar[5] = extrinsic.T_camera_lidar[10] = 1;
   writer.WriteMessage("EXTRINSIC", 6000000, extrinsic);
   const char unknown[] = "0123456789abcdef";

@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "process_utils.hpp"
-#include "runtime/extrinsic_formats.hpp"
-#include "runtime/result_file.hpp"
+#include "formats/extrinsic_formats.hpp"
+#include "formats/result_file.hpp"
 
 namespace fusecal {
 namespace {

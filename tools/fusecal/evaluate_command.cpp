@@ -3,10 +3,10 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "common/extrinsic_error.hpp"
-#include "runtime/ground_truth.hpp"
-#include "runtime/message_json.hpp"
-#include "runtime/result_file.hpp"
+#include "foundation/extrinsic_error.hpp"
+#include "formats/ground_truth.hpp"
+#include "formats/message_json.hpp"
+#include "formats/result_file.hpp"
 
 namespace fusecal {
 

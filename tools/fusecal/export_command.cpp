@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "runtime/extrinsic_formats.hpp"
+#include "formats/extrinsic_formats.hpp"
 
 namespace fusecal {
 

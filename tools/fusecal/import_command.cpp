@@ -7,7 +7,7 @@
 #include "ishikawa.hpp"
 #include "kitti.hpp"
 #include "progress.hpp"
-#include "runtime/camera_file.hpp"
+#include "formats/camera_file.hpp"
 
 namespace fusecal {
 

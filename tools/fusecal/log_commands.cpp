@@ -6,7 +6,7 @@
 
 #include "commands.hpp"
 #include "runtime/lcm_log.hpp"
-#include "runtime/message_json.hpp"
+#include "formats/message_json.hpp"
 
 namespace fusecal {
 

@@ -12,7 +12,7 @@
 #include "fusecal/station_t.hpp"
 #include "progress.hpp"
 #include "runtime/channels.hpp"
-#include "runtime/conversions.hpp"
+#include "formats/conversions.hpp"
 #include "runtime/lcm_log.hpp"
 #include "simulator/simulation.hpp"
 

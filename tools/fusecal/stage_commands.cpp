@@ -13,12 +13,12 @@
 #include "fusecal/image_t.hpp"
 #include "fusecal/point_cloud_t.hpp"
 #include "pipeline/pipeline_config.hpp"
-#include "runtime/camera_file.hpp"
+#include "formats/camera_file.hpp"
 #include "runtime/channels.hpp"
-#include "runtime/conversions.hpp"
+#include "formats/conversions.hpp"
 #include "runtime/lcm_log.hpp"
-#include "runtime/message_json.hpp"
-#include "runtime/result_file.hpp"
+#include "formats/message_json.hpp"
+#include "formats/result_file.hpp"
 #include "scan_io/scan_io.hpp"
 
 namespace fusecal {

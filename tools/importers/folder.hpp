@@ -2,7 +2,7 @@
 // station. Optional times.csv with lines "stem,seconds" (a header line is allowed).
 #pragma once
 
-#include "common/camera_model.hpp"
+#include "foundation/camera_model.hpp"
 #include "import_writer.hpp"
 
 namespace fusecal {

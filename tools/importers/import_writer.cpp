@@ -8,7 +8,7 @@
 #include "fusecal/ground_truth_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "runtime/channels.hpp"
-#include "runtime/conversions.hpp"
+#include "formats/conversions.hpp"
 
 namespace fusecal {
 

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "common/camera_model.hpp"
-#include "common/point_cloud.hpp"
-#include "common/se3.hpp"
+#include "foundation/camera_model.hpp"
+#include "foundation/point_cloud.hpp"
+#include "foundation/se3.hpp"
 #include "runtime/lcm_log.hpp"
 
 namespace fusecal {

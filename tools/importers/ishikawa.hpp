@@ -16,8 +16,8 @@
 #include <utility>
 #include <vector>
 
-#include "common/point_cloud.hpp"
-#include "common/se3.hpp"
+#include "foundation/point_cloud.hpp"
+#include "foundation/se3.hpp"
 #include "import_writer.hpp"
 
 namespace fusecal {

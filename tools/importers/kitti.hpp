@@ -4,8 +4,8 @@
 
 #include <string>
 
-#include "common/camera_model.hpp"
-#include "common/se3.hpp"
+#include "foundation/camera_model.hpp"
+#include "foundation/se3.hpp"
 #include "import_writer.hpp"
 
 namespace fusecal {

@@ -8,7 +8,8 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
-#include "runtime/conversions.hpp"
+#include "formats/conversions.hpp"
+#include "formats/extrinsic_status.hpp"
 #include "visualization/overlay.hpp"
 
 namespace fusecal {
@@ -19,8 +20,8 @@ CalibrationResult ResultFromMessage(const extrinsic_t& e) {
   CalibrationResult r;
   r.T_camera_lidar = FromRowMajor(e.T_camera_lidar);
   r.covariance = Matrix6FromArray(e.covariance);
-  r.status = e.status;
-  r.observability = e.observability;
+  r.status = ExtrinsicStatusName(e.status);
+  r.observability = ObservabilityName(e.observability);
   for (int k = 0; k < e.num_used; ++k)
     r.motions_used.push_back(std::to_string(e.used_station_i[k]) + "-" + std::to_string(e.used_station_j[k]));
   for (int k = 0; k < e.num_rejected; ++k)
@@ -39,9 +40,10 @@ void WriteConvergence(const SessionRecord& session, const std::optional<Isometry
                       CalibrationOutputs* out) {
   const std::string csv = dir + "/convergence.csv";
   std::ofstream file(csv);
-  file << "version,iteration,status,scaled,change,rot_err_deg,trans_err_m\n";
+  file << "version,iteration,status,scaled,change_rotation_deg,change_translation_m,rot_err_deg,trans_err_m\n";
   for (const auto& e : session.extrinsics()) {
-    file << e.version << "," << e.iteration << "," << e.status << "," << (e.scaled ? 1 : 0) << "," << e.change << ",";
+    file << e.version << "," << e.iteration << "," << ExtrinsicStatusName(e.status) << "," << (e.scaled ? 1 : 0) << ","
+         << e.change_rotation_rad * 180.0 / M_PI << "," << e.change_translation_m << ",";
     if (truth) {
       const ExtrinsicError err = CompareExtrinsics(FromRowMajor(e.T_camera_lidar), *truth);
       file << err.rotation_deg << "," << err.translation_m << "\n";
@@ -57,13 +59,14 @@ void WriteConvergence(const SessionRecord& session, const std::optional<Isometry
          << "set datafile separator ','; set key outside bottom center; set key autotitle columnhead; set xlabel 'extrinsic version';"
          << "set logscale y; set format y '%g'; set grid;";
   // Scaled estimates (the alternation) and scaleless ones apart; zero changes are not drawn.
+  const std::string changes = "'' using 1:($5>0?$5:1/0) with points pt 2 title 'rotation change per iteration (deg)', "
+                              "'' using 1:($6>0?$6*100:1/0) with points pt 4 title 'translation change per iteration (cm)'";
   if (truth)
-    script << "set ylabel 'error'; plot '" << csv << "' using 1:($4==1?$6:1/0) with linespoints title 'rotation error (deg)', "
-           << "'' using 1:($4==1?$7*100:1/0) with linespoints title 'translation error (cm)', "
-           << "'' using 1:($4==0?$7*100:1/0) with points pt 6 title 'scaleless translation error (cm)', "
-           << "'' using 1:($5>0?$5:1/0) with points pt 2 title 'change per iteration'";
+    script << "set ylabel 'error'; plot '" << csv << "' using 1:($4==1?$7:1/0) with linespoints title 'rotation error (deg)', "
+           << "'' using 1:($4==1?$8*100:1/0) with linespoints title 'translation error (cm)', "
+           << "'' using 1:($4==0?$8*100:1/0) with points pt 6 title 'scaleless translation error (cm)', " << changes;
   else
-    script << "set ylabel 'change'; plot '" << csv << "' using 1:($5>0?$5:1/0) with points pt 2 title 'change per iteration'";
+    script << "set ylabel 'change'; plot '" << csv << "' using 1:(1/0) notitle, " << changes;
   const std::string script_path = dir + "/convergence.gp";
   std::ofstream(script_path) << script.str() << "\n";
   const std::string command = "gnuplot '" + script_path + "' 2>/dev/null";

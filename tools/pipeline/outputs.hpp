@@ -9,9 +9,9 @@
 #include <optional>
 #include <string>
 
-#include "common/extrinsic_error.hpp"
+#include "foundation/extrinsic_error.hpp"
 #include "pipeline/session.hpp"
-#include "runtime/result_file.hpp"
+#include "formats/result_file.hpp"
 
 namespace fusecal {
 

@@ -7,8 +7,9 @@
 #include "fusecal/motion_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "runtime/channels.hpp"
-#include "runtime/conversions.hpp"
-#include "runtime/result_file.hpp"
+#include "formats/conversions.hpp"
+#include "formats/extrinsic_status.hpp"
+#include "formats/result_file.hpp"
 
 namespace fusecal {
 
@@ -65,7 +66,7 @@ const extrinsic_t* SessionRecord::Final() const { return extrinsics_.empty() ? n
 
 const extrinsic_t* SessionRecord::Initial() const {
   for (auto it = extrinsics_.rbegin(); it != extrinsics_.rend(); ++it)
-    if (!it->scaled && it->status != "failed") return &*it;
+    if (!it->scaled && it->status != extrinsic_t::STATUS_FAILED) return &*it;
   return nullptr;
 }
 
@@ -96,7 +97,7 @@ std::string ProgressText(const SessionRecord& session) {
     const Matrix6 cov = Matrix6FromArray(e->covariance);
     const Eigen::Vector3d t = T.translation(), st = TranslationStdDevM(cov), sr = RotationStdDevDeg(cov);
     const Eigen::Vector3d rpy = RpyFromRotation(T.linear()) * 180.0 / M_PI;
-    out << " | v" << e->version << " it" << e->iteration << " " << e->status << " (" << e->observability << ")"
+    out << " | v" << e->version << " it" << e->iteration << " " << ExtrinsicStatusName(e->status) << " (" << ObservabilityName(e->observability) << ")"
         << " t=[" << t.x() << " " << t.y() << " " << t.z() << "]+-" << std::setprecision(4) << st.maxCoeff()
         << " m rpy=[" << std::setprecision(2) << rpy.x() << " " << rpy.y() << " " << rpy.z() << "]+-"
         << std::setprecision(4) << sr.maxCoeff() << " deg";

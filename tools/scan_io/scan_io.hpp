@@ -9,7 +9,7 @@
 
 #include <string>
 
-#include "common/point_cloud.hpp"
+#include "foundation/point_cloud.hpp"
 
 namespace fusecal {
 

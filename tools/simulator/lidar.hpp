@@ -7,7 +7,7 @@
 #include <functional>
 #include <vector>
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 #include "simulator/ray_grid.hpp"
 #include "simulator/scenario.hpp"
 #include "simulator/scene.hpp"

@@ -5,7 +5,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "common/camera_model.hpp"
+#include "foundation/camera_model.hpp"
 
 namespace fusecal::sim {
 

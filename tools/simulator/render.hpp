@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <opencv2/core.hpp>
 
-#include "common/camera_model.hpp"
-#include "common/se3.hpp"
+#include "foundation/camera_model.hpp"
+#include "foundation/se3.hpp"
 #include "simulator/ray_grid.hpp"
 #include "simulator/scenario.hpp"
 #include "simulator/scene.hpp"

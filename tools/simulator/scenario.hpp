@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "common/camera_model.hpp"
-#include "common/se3.hpp"
+#include "foundation/camera_model.hpp"
+#include "foundation/se3.hpp"
 
 namespace fusecal::sim {
 

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "common/camera_model.hpp"
-#include "common/se3.hpp"
+#include "foundation/camera_model.hpp"
+#include "foundation/se3.hpp"
 #include "simulator/lidar.hpp"
 #include "simulator/ray_grid.hpp"
 #include "simulator/scenario.hpp"

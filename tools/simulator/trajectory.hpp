@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 #include "simulator/scenario.hpp"
 
 namespace fusecal::sim {

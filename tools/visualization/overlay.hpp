@@ -4,9 +4,9 @@
 
 #include <opencv2/core.hpp>
 
-#include "common/camera_model.hpp"
-#include "common/point_cloud.hpp"
-#include "common/se3.hpp"
+#include "foundation/camera_model.hpp"
+#include "foundation/point_cloud.hpp"
+#include "foundation/se3.hpp"
 
 namespace fusecal {
 

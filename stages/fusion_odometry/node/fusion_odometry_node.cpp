@@ -4,8 +4,8 @@
 
 #include "fusecal/motion_t.hpp"
 #include "runtime/channels.hpp"
-#include "runtime/conversions.hpp"
-#include "runtime/motion_message.hpp"
+#include "formats/conversions.hpp"
+#include "formats/motion_message.hpp"
 
 namespace fusecal {
 
@@ -79,7 +79,7 @@ void FusionOdometryNode::OnExtrinsic(Bus& bus, const extrinsic_t& extrinsic) {
     return;
   }
   // Only versions that ask for refinement are answered.
-  if (extrinsic.version <= newest_answered_ || extrinsic.status != "refining") return;
+  if (extrinsic.version <= newest_answered_ || extrinsic.status != extrinsic_t::STATUS_REFINING) return;
   const Isometry3 X = FromRowMajor(extrinsic.T_camera_lidar);
   motion_set_t answer{};
   answer.utime = NowUtime();

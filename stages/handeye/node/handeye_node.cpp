@@ -4,7 +4,8 @@
 
 #include "handeye/node/result_conversion.hpp"
 #include "runtime/channels.hpp"
-#include "runtime/conversions.hpp"
+#include "formats/conversions.hpp"
+#include "formats/extrinsic_status.hpp"
 
 namespace fusecal {
 
@@ -94,27 +95,28 @@ void HandEyeNode::StartRound(Bus& bus) {
   const bool ask = usable && settings_.scaled_refinement;
   if (!usable) {
     // Not enough to refine: report what the motions give and wait for more.
-    const std::string status = initial_->status == handeye_status::kFailed ? "failed" : "degenerate";
+    const int8_t status = initial_->status == handeye_status::kFailed ? extrinsic_t::STATUS_FAILED
+                                                                      : extrinsic_t::STATUS_DEGENERATE;
     if (!current_ || !current_->scaled) current_ = *initial_;
     state_ = "waiting for motions (" + initial_->observability + ")";
-    Publish(bus, *initial_, status, 0.0, false);
+    Publish(bus, *initial_, status, {}, false);
     return;
   }
   if (!ask) {
     current_ = *initial_;
     converged_ = Observable(*initial_) && initial_->converged;
     state_ = converged_ ? "converged (scaleless)" : "waiting for motions (" + initial_->observability + ")";
-    Publish(bus, *initial_, converged_ ? "converged" : "degenerate", 0.0, false);
+    Publish(bus, *initial_, converged_ ? extrinsic_t::STATUS_CONVERGED : extrinsic_t::STATUS_DEGENERATE, {}, false);
     return;
   }
   state_ = "refining";
   if (resume) {
     // The scaleless estimate over all motions, for the record; then continue from the scaled estimate.
-    Publish(bus, *initial_, "initial", 0.0, false);
-    Publish(bus, *current_, "refining", 0.0, true);
+    Publish(bus, *initial_, extrinsic_t::STATUS_INITIAL, {}, false);
+    Publish(bus, *current_, extrinsic_t::STATUS_REFINING, {}, true);
   } else {
     current_ = *initial_;
-    Publish(bus, *initial_, "refining", 0.0, true);
+    Publish(bus, *initial_, extrinsic_t::STATUS_REFINING, {}, true);
   }
 }
 
@@ -142,24 +144,27 @@ void HandEyeNode::OnFusedMotions(Bus& bus, const motion_set_t& set) {
     state_ = "waiting for motions (" + why + ")";
     HandEyeResult kept = *current_;
     kept.message = why;
-    Publish(bus, kept, "failed", 0.0, false);
+    Publish(bus, kept, extrinsic_t::STATUS_FAILED, {}, false);
     return;
   }
-  const double change_rot = RotationErrorDeg(result.T_camera_lidar.linear(), current_->T_camera_lidar.linear());
-  const double change_trans = (result.T_camera_lidar.translation() - current_->T_camera_lidar.translation()).norm();
+  const double change_rot_deg = RotationErrorDeg(result.T_camera_lidar.linear(), current_->T_camera_lidar.linear());
+  const Change change{change_rot_deg * M_PI / 180.0,
+                      (result.T_camera_lidar.translation() - current_->T_camera_lidar.translation()).norm()};
   current_ = result;
   ++iteration_;
-  const bool small = change_rot < settings_.tolerance_rotation_deg && change_trans < settings_.tolerance_translation_m;
+  const bool small = change_rot_deg < settings_.tolerance_rotation_deg && change.translation_m < settings_.tolerance_translation_m;
   const bool done = small || iteration_ >= settings_.max_iterations;
-  std::string status = "refining";
-  if (done) status = Observable(result) && result.converged && small ? "converged" : (Observable(result) ? "not_converged" : "degenerate");
-  converged_ = status == "converged";
-  state_ = done ? status : "refining";
-  Publish(bus, result, status, change_rot * M_PI / 180.0 + change_trans, !done);
+  int8_t status = extrinsic_t::STATUS_REFINING;
+  if (done)
+    status = !Observable(result)                 ? extrinsic_t::STATUS_DEGENERATE
+             : result.converged && small         ? extrinsic_t::STATUS_CONVERGED
+                                                 : extrinsic_t::STATUS_NOT_CONVERGED;
+  converged_ = status == extrinsic_t::STATUS_CONVERGED;
+  state_ = ExtrinsicStatusName(status);
+  Publish(bus, result, status, change, !done);
 }
 
-void HandEyeNode::Publish(Bus& bus, const HandEyeResult& result, const std::string& status, double change,
-                          bool ask) {
+void HandEyeNode::Publish(Bus& bus, const HandEyeResult& result, int8_t status, Change change, bool ask) {
   extrinsic_t msg = ToExtrinsicMessage(result, ++version_, NowUtime());
   if (msg.num_used == 0 && msg.num_rejected == 0) {
     // A solve that used nothing (too few motions) lists the pairs it had as not used.
@@ -177,9 +182,10 @@ void HandEyeNode::Publish(Bus& bus, const HandEyeResult& result, const std::stri
     msg.used_station_j = pairs.used_station_j;
   }
   msg.status = status;
-  msg.converged = status == "converged";
+  msg.converged = status == extrinsic_t::STATUS_CONVERGED;
   msg.iteration = iteration_;
-  msg.change = change;
+  msg.change_rotation_rad = change.rotation_rad;
+  msg.change_translation_m = change.translation_m;
   last_published_ = msg;
   last_sent_utime_ = NowUtime();
   awaiting_version_ = ask ? version_ : -1;

@@ -1,9 +1,5 @@
-// EXTRINSIC status: "refining" asks fusion odometry for the metric motions of the listed pairs;
-// "initial" is the scaleless estimate over all motions (for the record); "converged", "not_converged",
-// "degenerate" (what the motions cannot determine; never converged) and "failed" end a round.
-//
 // fusecal-handeye: pairs CAMERA_MOTION and LIDAR_MOTION by station pair, solves the scaleless initial
-// extrinsic (paper III-A-2), then alternates with fusion odometry (III-B-2, DESIGN.md section 3):
+// extrinsic (paper III-A-2), then alternates with fusion odometry (III-B-2, docs/design.md section 4):
 //   publish EXTRINSIC version k  ->  fusion odometry answers FUSED_MOTIONS for version k
 //   ->  solve the scaled extrinsic  ->  publish version k+1 ... until the change is below tolerance.
 // New motions resume the alternation from the current estimate (online refinement). An unanswered
@@ -50,7 +46,14 @@ class HandEyeNode : public StageNode {
   void OnMotion(Bus& bus, const motion_t& motion);
   void OnFusedMotions(Bus& bus, const motion_set_t& set);
   void StartRound(Bus& bus);
-  void Publish(Bus& bus, const HandEyeResult& result, const std::string& status, double change, bool ask);
+  // Change of the estimate over one scaled iteration.
+  struct Change {
+    double rotation_rad = 0;
+    double translation_m = 0;
+  };
+  // `status`: extrinsic_t::STATUS_* (REFINING asks fusion odometry for the metric motions of the pairs;
+  // INITIAL is the scaleless record; CONVERGED, NOT_CONVERGED, DEGENERATE and FAILED end a round).
+  void Publish(Bus& bus, const HandEyeResult& result, int8_t status, Change change, bool ask);
   std::vector<MotionPair> ScalelessPairs() const;
   // The pair of a camera motion with the LiDAR motion of the same stations; false when either is bad.
   bool PairWithLidar(const motion_t& camera, MotionPair* pair) const;

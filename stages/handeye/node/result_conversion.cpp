@@ -2,7 +2,8 @@
 
 #include <sstream>
 
-#include "runtime/conversions.hpp"
+#include "formats/conversions.hpp"
+#include "formats/extrinsic_status.hpp"
 
 namespace fusecal {
 
@@ -37,8 +38,8 @@ extrinsic_t ToExtrinsicMessage(const HandEyeResult& r, int version, int64_t utim
   msg.version = version;
   ToRowMajor(r.T_camera_lidar, msg.T_camera_lidar);
   Matrix6ToArray(r.covariance, msg.covariance);
-  msg.status = r.status;
-  msg.observability = r.observability;
+  msg.status = ExtrinsicStatusFromName(r.status);
+  msg.observability = ObservabilityFromName(r.observability);
   for (int i = 0; i < 3; ++i) msg.unobservable_direction[i] = r.unobservable_direction[i];
   msg.converged = r.converged;
   msg.scaled = r.scaled;

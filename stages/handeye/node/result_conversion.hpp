@@ -3,7 +3,7 @@
 
 #include "fusecal/extrinsic_t.hpp"
 #include "handeye/handeye_solver.hpp"
-#include "runtime/result_file.hpp"
+#include "formats/result_file.hpp"
 
 namespace fusecal {
 

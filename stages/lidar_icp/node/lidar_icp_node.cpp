@@ -1,8 +1,8 @@
 #include "lidar_icp/node/lidar_icp_node.hpp"
 
+#include "formats/conversions.hpp"
+#include "formats/motion_message.hpp"
 #include "runtime/channels.hpp"
-#include "runtime/conversions.hpp"
-#include "runtime/motion_message.hpp"
 
 namespace fusecal {
 
@@ -23,52 +23,31 @@ LidarIcpNodeSettings ReadLidarIcpNodeSettings(ConfigReader r) {
   return s;
 }
 
-void LidarIcpNode::Start(Bus& bus) {
-  subscriptions_.push_back(bus.Subscribe<station_t>(
-      channels::kStation, std::function<void(const station_t&)>([this, &bus](const station_t& s) { OnStation(bus, s); })));
-}
+LidarIcpNode::LidarIcpNode(LidarIcpNodeSettings settings)
+    : StationPairNode<PointCloud>("lidar", channels::kLidarMotion, settings.previous_stations),
+      settings_(std::move(settings)) {}
 
-void LidarIcpNode::OnStation(Bus& bus, const station_t& station) {
-  if (const auto seen = published_.find(station.id); seen != published_.end()) {
-    for (const auto& motion : seen->second) bus.Publish(channels::kLidarMotion, motion);
-    return;
-  }
-  published_[station.id];
-  ++stations_;
-  PointCloud cloud;
+PointCloud LidarIcpNode::Prepare(const station_t& station) {
   try {
-    cloud = CloudFromMsg(station.cloud);
+    return CloudFromMsg(station.cloud);
   } catch (const std::exception& e) {
-    ++failures_;
-    throw std::runtime_error("station " + std::to_string(station.id) + ": bad scan: " + e.what());
+    throw std::runtime_error(std::string("bad scan: ") + e.what());
   }
-  state_ = "registering";
-  for (const auto& [previous_id, previous_cloud] : previous_) {
-    const auto result = lidar_icp::Register(previous_cloud, cloud, settings_.registration);
-    busy_s_ += result.seconds;
-    motion_t motion = result.converged
-                          ? MakeMotion(previous_id, station.id, "lidar", result.T_li_lj, true, result.covariance,
-                                       station.utime)
-                          : MakeFailedMotion(previous_id, station.id, "lidar", result.failure_reason, station.utime);
-    motion.fitness = result.fitness;
-    motion.rmse = result.inlier_rms_m;
-    motion.iterations = result.iterations;
-    motion.inliers = static_cast<int32_t>(result.inliers);
-    motion.seconds = result.seconds;
-    bus.Publish(channels::kLidarMotion, motion);
-    published_[station.id].push_back(motion);
-    result.converged ? ++motions_ : ++failures_;
-  }
-  previous_.emplace_back(station.id, std::move(cloud));
-  while (static_cast<int>(previous_.size()) > settings_.previous_stations) previous_.pop_front();
-  state_ = "waiting";
 }
 
-StageStatus LidarIcpNode::Status() const {
-  StageStatus s;
-  s.state = state_;
-  s.counters = {{"stations", stations_}, {"motions", motions_}, {"failures", failures_}, {"busy_s", busy_s_}};
-  return s;
+motion_t LidarIcpNode::Pair(int previous_id, const PointCloud& previous, const station_t& station,
+                            const PointCloud& current) {
+  const auto result = lidar_icp::Register(previous, current, settings_.registration);
+  motion_t motion = result.converged
+                        ? MakeMotion(previous_id, station.id, "lidar", result.T_li_lj, true, result.covariance,
+                                     station.utime)
+                        : MakeFailedMotion(previous_id, station.id, "lidar", result.failure_reason, station.utime);
+  motion.fitness = result.fitness;
+  motion.rmse = result.inlier_rms_m;
+  motion.iterations = result.iterations;
+  motion.inliers = static_cast<int32_t>(result.inliers);
+  motion.seconds = result.seconds;
+  return motion;
 }
 
 }  // namespace fusecal

@@ -1,17 +1,13 @@
 // fusecal-lidar-icp: on each STATION, registers its scan to the previous station's (and optionally to
 // the k previous ones) and publishes LIDAR_MOTION. A failed registration is published as failed with
-// its reason, never as a good motion.
+// its reason, never as a good motion. The station protocol (once per station, repeats answered from
+// cache) is the skeleton's: node_kit/station_pair_node.hpp.
 #pragma once
 
-#include <deque>
-#include <map>
-
-#include "common/point_cloud.hpp"
-#include "fusecal/motion_t.hpp"
-#include "fusecal/station_t.hpp"
+#include "foundation/point_cloud.hpp"
 #include "lidar_icp/registration.hpp"
+#include "node_kit/station_pair_node.hpp"
 #include "runtime/config_reader.hpp"
-#include "runtime/stage_main.hpp"
 
 namespace fusecal {
 
@@ -23,24 +19,17 @@ struct LidarIcpNodeSettings {
 // Reads the `lidar_icp` section (unknown keys rejected).
 LidarIcpNodeSettings ReadLidarIcpNodeSettings(ConfigReader section);
 
-class LidarIcpNode : public StageNode {
+class LidarIcpNode : public StationPairNode<PointCloud> {
  public:
-  explicit LidarIcpNode(LidarIcpNodeSettings settings) : settings_(std::move(settings)) {}
-  void Start(Bus& bus) override;
-  StageStatus Status() const override;
+  explicit LidarIcpNode(LidarIcpNodeSettings settings);
+
+ protected:
+  PointCloud Prepare(const station_t& station) override;
+  motion_t Pair(int previous_id, const PointCloud& previous, const station_t& station,
+                const PointCloud& current) override;
 
  private:
-  void OnStation(Bus& bus, const station_t& station);
-
   LidarIcpNodeSettings settings_;
-  std::deque<std::pair<int, PointCloud>> previous_;  // (station id, scan), newest last
-  std::vector<Subscription> subscriptions_;
-  // Motions published for each station, republished when a station comes again (a restarted stage
-  // downstream needs them); the station itself is not processed twice.
-  std::map<int, std::vector<motion_t>> published_;
-  int stations_ = 0, motions_ = 0, failures_ = 0;
-  double busy_s_ = 0;
-  std::string state_ = "waiting";
 };
 
 }  // namespace fusecal

@@ -3,7 +3,7 @@
 #include <chrono>
 
 #include "runtime/channels.hpp"
-#include "runtime/conversions.hpp"
+#include "formats/conversions.hpp"
 
 namespace fusecal {
 

@@ -10,14 +10,14 @@
 #include <random>
 
 #include "camera_frontend/relative_pose.hpp"
-#include "common/extrinsic_error.hpp"
+#include "foundation/extrinsic_error.hpp"
 #include "fusecal/station_t.hpp"
 #include "fusion_odometry/fusion_odometry.hpp"
 #include "handeye/handeye_solver.hpp"
 #include "lidar_icp/registration.hpp"
 #include "runtime/channels.hpp"
-#include "runtime/conversions.hpp"
-#include "runtime/ground_truth.hpp"
+#include "formats/conversions.hpp"
+#include "formats/ground_truth.hpp"
 #include "runtime/lcm_log.hpp"
 
 using namespace fusecal;

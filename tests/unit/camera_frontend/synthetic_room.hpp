@@ -10,8 +10,8 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-#include "common/camera_model.hpp"
-#include "common/se3.hpp"
+#include "foundation/camera_model.hpp"
+#include "foundation/se3.hpp"
 
 namespace fusecal::test {
 

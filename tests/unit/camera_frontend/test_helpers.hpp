@@ -6,8 +6,8 @@
 #include <string>
 
 #include "camera_frontend/relative_pose.hpp"
-#include "common/camera_model.hpp"
-#include "common/se3.hpp"
+#include "foundation/camera_model.hpp"
+#include "foundation/se3.hpp"
 
 namespace fusecal::test {
 

@@ -23,7 +23,7 @@
 #include <thread>
 #include <vector>
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 #include "lidar_icp/registration.hpp"
 #include "scan_io/scan_io.hpp"
 #include "synthetic_scans.hpp"

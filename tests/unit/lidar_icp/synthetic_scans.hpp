@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/point_cloud.hpp"
+#include "foundation/point_cloud.hpp"
 
 namespace fusecal::testing {
 

@@ -5,7 +5,7 @@
 #include <limits>
 #include <random>
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 #include "lidar_icp/consistency.hpp"
 #include "lidar_icp/distance_field.hpp"
 #include "lidar_icp/global_alignment.hpp"

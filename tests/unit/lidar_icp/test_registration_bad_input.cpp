@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 #include "lidar_icp/registration.hpp"
 #include "synthetic_scans.hpp"
 

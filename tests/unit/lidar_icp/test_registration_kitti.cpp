@@ -8,7 +8,7 @@
 #include <map>
 #include <string>
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 #include "lidar_icp/registration.hpp"
 #include "scan_io/scan_io.hpp"
 

@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "common/se3.hpp"
+#include "foundation/se3.hpp"
 #include "lidar_icp/registration.hpp"
 #include "synthetic_scans.hpp"
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "common/camera_model.hpp"
+#include "foundation/camera_model.hpp"
 #include "simulator/lidar.hpp"
 #include "simulator/scenario.hpp"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "common/point_cloud.hpp"
+#include "foundation/point_cloud.hpp"
 #include "simulator/lidar.hpp"
 #include "simulator/scenario.hpp"
 #include "simulator/simulation.hpp"

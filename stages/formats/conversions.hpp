@@ -1,0 +1,46 @@
+// Conversions between lcmtypes and the types the stage cores use (OpenCV, Eigen, PointCloud).
+// This is the only place where the two meet. Every function checks its input and throws
+// ConversionError with a message that says what is wrong.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "foundation/camera_model.hpp"
+#include "foundation/point_cloud.hpp"
+#include "foundation/se3.hpp"
+#include "fusecal/camera_info_t.hpp"
+#include "fusecal/image_t.hpp"
+#include "fusecal/point_cloud_t.hpp"
+
+namespace fusecal {
+
+class ConversionError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Image encodings carried by image_t.
+bool IsKnownImageEncoding(const std::string& encoding);
+
+// Decodes an image message to an 8-bit cv::Mat: CV_8UC1 for mono8, CV_8UC3 in BGR order for colour
+// (rgb8 is reordered), and whatever the file holds (grey or BGR) for jpeg/png.
+cv::Mat ImageToMat(const image_t& msg);
+
+// Encodes an 8-bit grey or BGR image. encoding: mono8, rgb8, bgr8, jpeg or png. Grey images are
+// expanded for rgb8/bgr8; colour images are converted to grey for mono8.
+image_t MatToImage(const cv::Mat& image, const std::string& encoding, int64_t utime,
+                   const std::string& frame_id = "camera");
+
+PointCloud CloudFromMsg(const point_cloud_t& msg);
+point_cloud_t CloudToMsg(const PointCloud& cloud, int64_t utime, const std::string& frame_id = "lidar");
+
+CameraParams CameraFromMsg(const camera_info_t& msg);
+camera_info_t CameraToMsg(const CameraParams& params, int64_t utime = 0);
+
+// 6x6 matrices travel row-major in 36 doubles.
+void Matrix6ToArray(const Matrix6& m, double out[36]);
+Matrix6 Matrix6FromArray(const double in[36]);
+
+}  // namespace fusecal

@@ -1,0 +1,146 @@
+#include "formats/extrinsic_formats.hpp"
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/core/eigen.hpp>
+#include <sstream>
+#include <stdexcept>
+
+namespace fusecal {
+
+namespace {
+
+std::string ExportKitti(const CalibrationResult& r) {
+  std::ostringstream out;
+  out.precision(12);
+  out << "calib_time: exported by fusecal (T_camera_lidar: p_camera = R * p_lidar + T)\nR:";
+  const Eigen::Matrix3d R = r.T_camera_lidar.linear();
+  for (int i = 0; i < 9; ++i) out << " " << R(i / 3, i % 3);
+  out << "\nT:";
+  for (int i = 0; i < 3; ++i) out << " " << r.T_camera_lidar.translation()[i];
+  out << "\n";
+  return out.str();
+}
+
+std::string ExportRos(const CalibrationResult& r) {
+  const Eigen::Quaterniond q(r.T_camera_lidar.linear());
+  const Eigen::Vector3d t = r.T_camera_lidar.translation();
+  std::ostringstream out;
+  out.precision(12);
+  out << t.x() << " " << t.y() << " " << t.z() << " " << q.x() << " " << q.y() << " " << q.z() << " " << q.w()
+      << " camera lidar\n";
+  return out.str();
+}
+
+std::string ExportJson(const CalibrationResult& r) {
+  double m[16];
+  ToRowMajor(r.T_camera_lidar, m);
+  const Eigen::Quaterniond q(r.T_camera_lidar.linear());
+  const Eigen::Vector3d t = r.T_camera_lidar.translation();
+  nlohmann::ordered_json j{{"T_camera_lidar", std::vector<double>(m, m + 16)},
+                           {"translation_m", {t.x(), t.y(), t.z()}},
+                           {"rotation_quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()}},
+                           {"status", r.status},
+                           {"observability", r.observability}};
+  if (r.covariance) {
+    const Eigen::Vector3d sr = RotationStdDevDeg(*r.covariance), st = TranslationStdDevM(*r.covariance);
+    j["std_dev"] = {{"rotation_deg", {sr.x(), sr.y(), sr.z()}}, {"translation_m", {st.x(), st.y(), st.z()}}};
+  }
+  return j.dump(2) + "\n";
+}
+
+std::string ExportOpenCv(const CalibrationResult& r) {
+  cv::FileStorage fs(".yaml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  cv::Mat T, R, t;
+  cv::eigen2cv(Eigen::Matrix4d(r.T_camera_lidar.matrix()), T);
+  cv::eigen2cv(Eigen::Matrix3d(r.T_camera_lidar.linear()), R);
+  cv::eigen2cv(Eigen::Vector3d(r.T_camera_lidar.translation()), t);
+  fs << "T_camera_lidar" << T << "R" << R << "t" << t;
+  fs << "status" << r.status << "observability" << r.observability;
+  if (r.covariance) {
+    cv::Mat sr, st;
+    cv::eigen2cv(Eigen::Vector3d(RotationStdDevDeg(*r.covariance)), sr);
+    cv::eigen2cv(Eigen::Vector3d(TranslationStdDevM(*r.covariance)), st);
+    fs << "std_dev_rotation_deg" << sr << "std_dev_translation_m" << st;
+  }
+  return fs.releaseAndGetString();
+}
+
+// Reads `count` numbers after "key:" on its own line.
+std::vector<double> KittiLine(const std::string& text, const std::string& key, size_t count) {
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind(key + ":", 0) != 0) continue;
+    std::istringstream values(line.substr(key.size() + 1));
+    std::vector<double> v;
+    double x;
+    while (values >> x) v.push_back(x);
+    if (v.size() != count)
+      throw std::runtime_error("kitti: '" + key + "' needs " + std::to_string(count) + " numbers, has " +
+                               std::to_string(v.size()));
+    return v;
+  }
+  throw std::runtime_error("kitti: no '" + key + ":' line");
+}
+
+Isometry3 Checked(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std::string& format) {
+  const Isometry3 T = MakeIsometry(R, t);
+  if (!IsValidTransform(T, 1e-5)) throw std::runtime_error(format + ": not a rigid transform");
+  return MakeIsometry(NearestRotation(R), t);
+}
+
+}  // namespace
+
+const std::vector<std::string>& ExportFormats() {
+  static const std::vector<std::string> formats{"kitti", "ros-static-tf", "json", "opencv-yaml"};
+  return formats;
+}
+
+std::string ExportExtrinsic(const CalibrationResult& result, const std::string& format) {
+  if (format == "kitti") return ExportKitti(result);
+  if (format == "ros-static-tf") return ExportRos(result);
+  if (format == "json") return ExportJson(result);
+  if (format == "opencv-yaml") return ExportOpenCv(result);
+  throw std::invalid_argument("unknown export format '" + format +
+                              "' (expected kitti, ros-static-tf, json or opencv-yaml)");
+}
+
+Isometry3 ParseExportedExtrinsic(const std::string& text, const std::string& format) {
+  if (format == "kitti") {
+    const auto r = KittiLine(text, "R", 9), t = KittiLine(text, "T", 3);
+    Eigen::Matrix3d R;
+    for (int i = 0; i < 9; ++i) R(i / 3, i % 3) = r[i];
+    return Checked(R, Eigen::Vector3d(t[0], t[1], t[2]), format);
+  }
+  if (format == "ros-static-tf") {
+    std::istringstream in(text);
+    double v[7];
+    for (double& x : v)
+      if (!(in >> x)) throw std::runtime_error("ros-static-tf: expected x y z qx qy qz qw parent child");
+    const Eigen::Quaterniond q(v[6], v[3], v[4], v[5]);
+    if (std::abs(q.norm() - 1.0) > 1e-6) throw std::runtime_error("ros-static-tf: quaternion is not unit");
+    return Checked(q.toRotationMatrix(), Eigen::Vector3d(v[0], v[1], v[2]), format);
+  }
+  if (format == "json") {
+    const auto j = nlohmann::json::parse(text, nullptr, false);
+    if (j.is_discarded() || !j.contains("T_camera_lidar") || j["T_camera_lidar"].size() != 16)
+      throw std::runtime_error("json: needs T_camera_lidar with 16 numbers");
+    const auto m = j["T_camera_lidar"].get<std::vector<double>>();
+    Eigen::Matrix3d R;
+    for (int i = 0; i < 9; ++i) R(i / 3, i % 3) = m[(i / 3) * 4 + i % 3];
+    return Checked(R, Eigen::Vector3d(m[3], m[7], m[11]), format);
+  }
+  if (format == "opencv-yaml") {
+    cv::FileStorage fs(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+    cv::Mat T;
+    fs["T_camera_lidar"] >> T;
+    if (T.rows != 4 || T.cols != 4) throw std::runtime_error("opencv-yaml: needs a 4x4 T_camera_lidar");
+    Eigen::Matrix4d M;
+    cv::cv2eigen(T, M);
+    return Checked(M.topLeftCorner<3, 3>(), M.topRightCorner<3, 1>(), format);
+  }
+  throw std::invalid_argument("unknown format '" + format + "'");
+}
+
+}  // namespace fusecal

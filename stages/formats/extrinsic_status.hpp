@@ -1,0 +1,27 @@
+// The names of extrinsic_t's STATUS_* and OBSERVABILITY_* constants, as the result file
+// (extrinsic.yaml), the JSON of `fusecal log dump` and the progress lines write them.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "fusecal/extrinsic_t.hpp"
+
+namespace fusecal {
+
+// "initial", "refining", "converged", "not_converged", "degenerate", "failed"; "unknown" otherwise.
+const char* ExtrinsicStatusName(int8_t status);
+// "ok", "rotation_degenerate", "translation_partly_unobservable", "too_few_motions"; "unknown" otherwise.
+const char* ObservabilityName(int8_t observability);
+
+// The constant of a name above; throws std::invalid_argument naming an unknown one.
+int8_t ExtrinsicStatusFromName(const std::string& name);
+int8_t ObservabilityFromName(const std::string& name);
+
+// A version with status INITIAL or REFINING belongs to a round of the alternation that has not ended
+// (INITIAL, the scaleless record, is always followed by REFINING).
+inline bool RoundRunning(const extrinsic_t& e) {
+  return e.status == extrinsic_t::STATUS_REFINING || e.status == extrinsic_t::STATUS_INITIAL;
+}
+
+}  // namespace fusecal

@@ -1,0 +1,121 @@
+#include "formats/result_file.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+namespace fusecal {
+
+namespace {
+
+void EmitVector(YAML::Emitter& out, const std::string& key, const std::vector<double>& values) {
+  out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (double v : values) out << v;
+  out << YAML::EndSeq;
+}
+
+std::vector<double> ToVector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
+void EmitBody(YAML::Emitter& out, const CalibrationResult& r) {
+  out.SetDoublePrecision(12);
+  double m[16];
+  ToRowMajor(r.T_camera_lidar, m);
+  EmitVector(out, "T_camera_lidar", std::vector<double>(m, m + 16));
+  EmitVector(out, "translation_m", ToVector(r.T_camera_lidar.translation()));
+  const Eigen::Quaterniond q(r.T_camera_lidar.linear());
+  EmitVector(out, "rotation_quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()});
+  EmitVector(out, "rotation_rpy_deg", ToVector(RpyFromRotation(r.T_camera_lidar.linear()) * 180.0 / M_PI));
+  out << YAML::Key << "std_dev" << YAML::Value << YAML::BeginMap;
+  if (r.covariance) {
+    EmitVector(out, "rotation_deg", ToVector(RotationStdDevDeg(*r.covariance)));
+    EmitVector(out, "translation_m", ToVector(TranslationStdDevM(*r.covariance)));
+  } else {
+    out << YAML::Key << "rotation_deg" << YAML::Value << YAML::Null;
+    out << YAML::Key << "translation_m" << YAML::Value << YAML::Null;
+  }
+  out << YAML::EndMap;
+  if (r.covariance) {
+    EmitVector(out, "covariance", std::vector<double>(r.covariance->data(), r.covariance->data() + 36));
+  }
+  out << YAML::Key << "status" << YAML::Value << r.status;
+  out << YAML::Key << "observability" << YAML::Value << r.observability;
+  out << YAML::Key << "motions_used" << YAML::Value << YAML::Flow << r.motions_used;
+  out << YAML::Key << "motions_rejected" << YAML::Value << r.motions_rejected;
+  out << YAML::Key << "residual_rms" << YAML::Value << r.residual_rms;
+  for (const auto& [key, value] : r.extra) out << YAML::Key << key << YAML::Value << value;
+}
+
+}  // namespace
+
+Eigen::Vector3d RotationStdDevDeg(const Matrix6& c) {
+  return c.diagonal().head<3>().cwiseMax(0.0).cwiseSqrt() * 180.0 / M_PI;
+}
+
+Eigen::Vector3d TranslationStdDevM(const Matrix6& c) {
+  return c.diagonal().tail<3>().cwiseMax(0.0).cwiseSqrt();
+}
+
+std::string ResultToYaml(const CalibrationResult& result, const CalibrationResult* initial) {
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  EmitBody(out, result);
+  if (initial) {
+    out << YAML::Key << "initial" << YAML::Value << YAML::BeginMap;
+    EmitBody(out, *initial);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+void WriteResultFile(const std::string& path, const CalibrationResult& result,
+                     const CalibrationResult* initial) {
+  std::ofstream file(path);
+  file << ResultToYaml(result, initial);
+  if (!file) throw std::runtime_error(path + ": cannot write the result file");
+}
+
+CalibrationResult ReadResultFile(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {
+    throw std::runtime_error(path + ": cannot open the result file");
+  } catch (const YAML::Exception& e) {
+    throw std::runtime_error(path + ": not valid YAML: " + e.what());
+  }
+  const YAML::Node matrix = root.IsMap() ? root["T_camera_lidar"] : YAML::Node();
+  if (!matrix || !matrix.IsSequence() || matrix.size() != 16)
+    throw std::runtime_error(path + ": 'T_camera_lidar' must be a list of 16 numbers (row-major 4x4)");
+  double m[16];
+  try {
+    for (int i = 0; i < 16; ++i) m[i] = matrix[i].as<double>();
+  } catch (const YAML::Exception&) {
+    throw std::runtime_error(path + ": 'T_camera_lidar' holds something that is not a number");
+  }
+  Eigen::Matrix4d M;
+  for (int i = 0; i < 16; ++i) M(i / 4, i % 4) = m[i];
+  Isometry3 raw;
+  raw.matrix() = M;
+  if (!IsValidTransform(raw, 1e-4) || std::abs(M(3, 3) - 1) > 1e-9 || M.row(3).head<3>().norm() > 1e-9)
+    throw std::runtime_error(path + ": 'T_camera_lidar' is not a rigid transform (rotation not "
+                                    "orthonormal, non-finite, or last row not 0 0 0 1)");
+  CalibrationResult result;
+  result.T_camera_lidar = FromRowMajor(m);
+  auto read_string = [&](const char* key, std::string* out) {
+    if (root[key] && root[key].IsScalar()) *out = root[key].as<std::string>();
+  };
+  read_string("status", &result.status);
+  read_string("observability", &result.observability);
+  if (root["residual_rms"] && root["residual_rms"].IsScalar()) result.residual_rms = root["residual_rms"].as<double>(0.0);
+  if (root["covariance"] && root["covariance"].IsSequence() && root["covariance"].size() == 36) {
+    Matrix6 c;
+    for (int i = 0; i < 36; ++i) c.data()[i] = root["covariance"][i].as<double>();
+    result.covariance = c;
+  }
+  return result;
+}
+
+}  // namespace fusecal

@@ -1,0 +1,47 @@
+// The common result file: YAML written by every command that outputs an extrinsic, read by every
+// command that takes one (only `T_camera_lidar` is required when reading).
+//
+//   T_camera_lidar: [16 numbers, row-major]
+//   translation_m: [x, y, z]
+//   rotation_quaternion_wxyz: [w, x, y, z]
+//   rotation_rpy_deg: [roll, pitch, yaw]          (R = Rz(yaw) Ry(pitch) Rx(roll))
+//   std_dev: {rotation_deg: [3], translation_m: [3]}
+//   status, observability, motions_used, motions_rejected, residual_rms
+//   initial: {...same keys...}                   (optional: the scaleless initial estimate)
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "foundation/se3.hpp"
+
+namespace fusecal {
+
+struct CalibrationResult {
+  Isometry3 T_camera_lidar = Isometry3::Identity();
+  std::optional<Matrix6> covariance;  // [rotation rad; translation m]
+  std::string status = "unknown";
+  std::string observability = "unknown";
+  std::vector<std::string> motions_used;      // e.g. "3-4" (station ids)
+  std::vector<std::string> motions_rejected;  // e.g. "5-6: rotation angles differ by 3.1 deg"
+  double residual_rms = 0.0;
+  std::map<std::string, std::string> extra;   // further scalar facts (iterations, source, ...)
+};
+
+// Standard deviations from a covariance: rotation in degrees, translation in metres.
+Eigen::Vector3d RotationStdDevDeg(const Matrix6& covariance);
+Eigen::Vector3d TranslationStdDevM(const Matrix6& covariance);
+
+// Writes the result (and optionally the initial estimate under `initial`). Throws std::runtime_error
+// naming the file when it cannot be written.
+void WriteResultFile(const std::string& path, const CalibrationResult& result,
+                     const CalibrationResult* initial = nullptr);
+std::string ResultToYaml(const CalibrationResult& result, const CalibrationResult* initial = nullptr);
+
+// Reads a result file; only T_camera_lidar is required. Throws std::runtime_error naming the file and
+// the key when it is missing, not 16 finite numbers, or not a rigid transform.
+CalibrationResult ReadResultFile(const std::string& path);
+
+}  // namespace fusecal

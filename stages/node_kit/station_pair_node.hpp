@@ -1,0 +1,104 @@
+// The skeleton of a stage that answers every STATION with the motions from the k previous stations to it
+// (LiDAR ICP, camera front end). It owns the protocol; the stage supplies two steps:
+//   Prepare(station)          what pairing needs of one station (a scan, image features); throws on bad input
+//   Pair(previous, current)   one motion_t from the previous station to the current one
+// Each station is prepared once. When a station comes again (the supervisor gives a restarted stage the
+// stations again, and a restarted stage downstream needs the motions), its motions are published again
+// from cache and nothing is recomputed. A station that cannot be prepared is answered with failed motions
+// (so that nobody waits for them) and is not kept for pairing; the error is rethrown for the stage's log.
+#pragma once
+
+#include <chrono>
+#include <deque>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "formats/motion_message.hpp"
+#include "fusecal/motion_t.hpp"
+#include "fusecal/station_t.hpp"
+#include "runtime/bus.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/stage_main.hpp"
+
+namespace fusecal {
+
+template <typename Prepared>
+class StationPairNode : public StageNode {
+ public:
+  // `sensor` names the motions ("lidar", "camera"); they are published on `channel`.
+  StationPairNode(std::string sensor, std::string channel, int previous_stations)
+      : sensor_(std::move(sensor)), channel_(std::move(channel)), previous_stations_(previous_stations) {}
+
+  void Start(Bus& bus) override {
+    subscriptions_.push_back(bus.Subscribe<station_t>(
+        channels::kStation, std::function<void(const station_t&)>([this, &bus](const station_t& s) { OnStation(bus, s); })));
+  }
+
+  StageStatus Status() const override {
+    StageStatus s;
+    s.state = state_;
+    s.counters = {{"stations", stations_}, {"motions", motions_}, {"failures", failures_}, {"busy_s", busy_s_}};
+    return s;
+  }
+
+ protected:
+  virtual Prepared Prepare(const station_t& station) = 0;
+  virtual motion_t Pair(int previous_id, const Prepared& previous, const station_t& station,
+                        const Prepared& current) = 0;
+
+ private:
+  void OnStation(Bus& bus, const station_t& station) {
+    if (const auto seen = published_.find(station.id); seen != published_.end()) {
+      for (const auto& motion : seen->second) bus.Publish(channel_, motion);
+      return;
+    }
+    published_[station.id];
+    ++stations_;
+    const auto start = std::chrono::steady_clock::now();
+    state_ = "working on station " + std::to_string(station.id);
+    Prepared current;
+    try {
+      current = Prepare(station);
+    } catch (const std::exception& e) {
+      AnswerBadStation(bus, station, e.what());
+      busy_s_ += Seconds(start);
+      throw std::runtime_error("station " + std::to_string(station.id) + ": " + e.what());
+    }
+    for (const auto& [previous_id, previous] : previous_) Publish(bus, station.id, Pair(previous_id, previous, station, current));
+    previous_.emplace_back(station.id, std::move(current));
+    while (static_cast<int>(previous_.size()) > previous_stations_) previous_.pop_front();
+    busy_s_ += Seconds(start);
+    state_ = "waiting";
+  }
+
+  void AnswerBadStation(Bus& bus, const station_t& station, const std::string& why) {
+    ++failures_;
+    state_ = "waiting";
+    for (const auto& previous : previous_)
+      Publish(bus, station.id, MakeFailedMotion(previous.first, station.id, sensor_, why, station.utime));
+  }
+
+  void Publish(Bus& bus, int station_id, const motion_t& motion) {
+    motion.valid ? ++motions_ : ++failures_;
+    bus.Publish(channel_, motion);
+    published_[station_id].push_back(motion);
+  }
+
+  static double Seconds(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+
+  std::string sensor_, channel_;
+  int previous_stations_;
+  std::deque<std::pair<int, Prepared>> previous_;  // (station id, prepared), newest last
+  std::map<int, std::vector<motion_t>> published_;  // per station, for repeats
+  std::vector<Subscription> subscriptions_;
+  int stations_ = 0, motions_ = 0, failures_ = 0;
+  double busy_s_ = 0;
+  std::string state_ = "waiting";
+};
+
+}  // namespace fusecal
