@@ -48,6 +48,25 @@ cv::Mat ImageToMat(const image_t& msg) {
                         "' (expected mono8, rgb8, bgr8, jpeg or png)");
 }
 
+int64_t PeekUtime(const uint8_t* data, size_t size) {
+  if (size < 16) return -1;
+  uint64_t v = 0;
+  for (int k = 8; k < 16; ++k) v = (v << 8) | data[k];
+  return static_cast<int64_t>(v);
+}
+
+cv::Mat ImageToMatReduced(const image_t& msg, int min_width) {
+  if (msg.encoding != "jpeg") return ImageToMat(msg);
+  if (msg.data.empty()) throw ConversionError("jpeg image has no data");
+  int flag = cv::IMREAD_GRAYSCALE;
+  if (msg.width >= 8 * min_width) flag = cv::IMREAD_REDUCED_GRAYSCALE_8;
+  else if (msg.width >= 4 * min_width) flag = cv::IMREAD_REDUCED_GRAYSCALE_4;
+  else if (msg.width >= 2 * min_width) flag = cv::IMREAD_REDUCED_GRAYSCALE_2;
+  cv::Mat decoded = cv::imdecode(msg.data, flag);
+  if (decoded.empty()) throw ConversionError("corrupt jpeg image data");
+  return decoded;
+}
+
 image_t MatToImage(const cv::Mat& image, const std::string& encoding, int64_t utime,
                    const std::string& frame_id) {
   if (image.empty()) throw ConversionError("cannot encode an empty image");

@@ -27,6 +27,14 @@ bool IsKnownImageEncoding(const std::string& encoding);
 // Decodes an image message to an 8-bit cv::Mat: CV_8UC1 for mono8, CV_8UC3 in BGR order for colour
 // (rgb8 is reordered), and whatever the file holds (grey or BGR) for jpeg/png.
 cv::Mat ImageToMat(const image_t& msg);
+// The utime of an LCM-encoded fusecal message without decoding it: every fusecal type begins with
+// `int64_t utime`, right after LCM's 8-byte fingerprint (big-endian). -1 when the buffer is too short.
+int64_t PeekUtime(const uint8_t* data, size_t size);
+
+// A quick grey decode for measuring motion: JPEG decoded at the coarsest scale (1/2, 1/4, 1/8, which
+// libjpeg does in the DCT domain) that is still at least `min_width` wide; other encodings as ImageToMat.
+// Throws ConversionError as ImageToMat does.
+cv::Mat ImageToMatReduced(const image_t& msg, int min_width);
 
 // Encodes an 8-bit grey or BGR image. encoding: mono8, rgb8, bgr8, jpeg or png. Grey images are
 // expanded for rgb8/bgr8; colour images are converted to grey for mono8.

@@ -62,8 +62,15 @@ bool StationarityDetector::AcceptTime(const char* sensor, int64_t utime, const R
 }
 
 std::vector<DetectedStation> StationarityDetector::AddImage(int64_t utime, const cv::Mat& image) {
+  if (!IsSupportedImage(image)) return AddImage(utime, image, nullptr);
+  // A private copy: the caller may reuse its buffer.
+  return AddImage(utime, image, [copy = image.clone()] { return copy; });
+}
+
+std::vector<DetectedStation> StationarityDetector::AddImage(int64_t utime, const cv::Mat& image,
+                                                            StationImage station_image) {
   ++counters_.images_received;
-  if (!IsSupportedImage(image)) {
+  if (!IsSupportedImage(image) || !station_image) {
     ++counters_.images_invalid;
     Reject(UtimeText("image", utime) + ": empty or not an 8-bit grey/BGR image, ignored");
     return {};
@@ -96,11 +103,11 @@ std::vector<DetectedStation> StationarityDetector::AddImage(int64_t utime, const
     camera_.reason = gap ? Format("gap of %.2f s between images", gap_s) : "first image of a run";
     prev_image_ = anchor_image_ = frame;
     images_.clear();
-    images_.push_back({utime, image.clone(), frame});
+    images_.push_back({utime, std::move(station_image), frame});
     image_flow_px_ = image_drift_px_ = NAN;
     image_tracks_ = 0;
   } else {
-    JudgeImageMotion(utime, image, frame);
+    JudgeImageMotion(utime, station_image, frame);
   }
   Prune();
   return Evaluate(false);
@@ -108,15 +115,25 @@ std::vector<DetectedStation> StationarityDetector::AddImage(int64_t utime, const
 
 // A textured frame following the previous one without a gap: still when the flow from the previous frame and
 // the drift from the anchor are small, else it becomes the anchor of a new run (camera_.reason says why).
-void StationarityDetector::JudgeImageMotion(int64_t utime, const cv::Mat& image,
+void StationarityDetector::JudgeImageMotion(int64_t utime, const StationImage& image,
                                             const std::shared_ptr<const ImageFrame>& frame) {
   const ImageMotionSettings& is = settings_.image;
   const ImageFlow flow = MeasureFlow(*prev_image_, *frame, is);
-  const ImageFlow drift = anchor_image_ == prev_image_ ? flow : MeasureFlow(*anchor_image_, *frame, is);
+  // The drift only decides when the flow says still (half the tracking while the rig moves).
+  const bool flow_still = flow.valid && flow.median_px <= is.still_flow_px;
+  ImageFlow drift = flow;
+  if (anchor_image_ != prev_image_) {
+    if (flow_still) {
+      drift = MeasureFlow(*anchor_image_, *frame, is);
+    } else {
+      drift.valid = false;
+      drift.problem = "not measured while the rig moves";
+    }
+  }
   image_flow_px_ = flow.valid ? flow.median_px : NAN;
   image_drift_px_ = drift.valid ? drift.median_px : NAN;
   image_tracks_ = flow.tracks;
-  if (!flow.valid || !drift.valid) ++counters_.images_untracked;
+  if (!flow.valid || (flow_still && !drift.valid)) ++counters_.images_untracked;
   const bool still = flow.valid && drift.valid && flow.median_px <= is.still_flow_px &&
                      drift.median_px <= is.max_drift_px;
   if (still) {
@@ -125,7 +142,7 @@ void StationarityDetector::JudgeImageMotion(int64_t utime, const cv::Mat& image,
       camera_.still_since = anchor_image_->utime;
     }
     camera_.reason.clear();
-    images_.push_back({utime, image.clone(), frame});
+    images_.push_back({utime, image, frame});
   } else {
     camera_.still = false;
     if (!flow.valid)
@@ -139,7 +156,7 @@ void StationarityDetector::JudgeImageMotion(int64_t utime, const cv::Mat& image,
                               is.max_drift_px);
     anchor_image_ = frame;
     images_.clear();
-    images_.push_back({utime, image.clone(), frame});
+    images_.push_back({utime, image, frame});
   }
   prev_image_ = frame;
 }
@@ -333,7 +350,7 @@ DetectedStation StationarityDetector::BuildStation(const BufferedImage& best_ima
   s.utime = std::max(s.image_utime, s.scan_utime);
   s.still_from = from;
   s.still_to = to;
-  s.image = best_image.image;  // already a private copy
+  s.image = best_image.image();  // a private copy (or the full decode) of the chosen frame
 
   // Scans to merge: the chosen one and the still scans just before it.
   std::vector<const BufferedScan*> merged;

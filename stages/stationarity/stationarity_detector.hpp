@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -106,6 +107,11 @@ class StationarityDetector {
   // Feed the frames in arrival order; each returns the stations it completes (none or one). An input that
   // cannot be used (see StationarityCounters) is ignored and counted, never thrown on.
   std::vector<DetectedStation> AddImage(int64_t utime, const cv::Mat& image);
+  // The same, with the motion measured on `motion_image` (any resolution down to working_width_px, grey
+  // or colour: e.g. a JPEG decoded at a reduced scale) and the station's image made by `station_image`,
+  // which is called only for the frame a station takes (e.g. the full decode of the kept JPEG bytes).
+  using StationImage = std::function<cv::Mat()>;
+  std::vector<DetectedStation> AddImage(int64_t utime, const cv::Mat& motion_image, StationImage station_image);
   std::vector<DetectedStation> AddScan(int64_t utime, const PointCloud& cloud);
 
   // End of the streams: emits the pending still run if it has lasted min_still_s up to the newest frame of
@@ -119,7 +125,7 @@ class StationarityDetector {
  private:
   struct BufferedImage {
     int64_t utime;
-    cv::Mat image;
+    StationImage image;  // the image a station would carry
     std::shared_ptr<const ImageFrame> frame;
   };
   struct BufferedScan {
@@ -147,7 +153,7 @@ class StationarityDetector {
   std::vector<DetectedStation> Evaluate(bool flushing);
   std::optional<DetectedStation> TryEmit(int64_t from, int64_t to);
   // Steps of AddImage and TryEmit (see the .cpp).
-  void JudgeImageMotion(int64_t utime, const cv::Mat& image, const std::shared_ptr<const ImageFrame>& frame);
+  void JudgeImageMotion(int64_t utime, const StationImage& image, const std::shared_ptr<const ImageFrame>& frame);
   int64_t ClosestPairDt(int64_t from, int64_t to) const;
   std::pair<const BufferedImage*, const BufferedScan*> LatestPairNearClosest(int64_t from, int64_t to,
                                                                              int64_t best_dt, int64_t tie) const;

@@ -1,9 +1,9 @@
 #include "stationarity/node/stationarity_node.hpp"
 
-#include <chrono>
+#include <memory>
 
-#include "runtime/channels.hpp"
 #include "formats/conversions.hpp"
+#include "runtime/channels.hpp"
 
 namespace fusecal {
 
@@ -15,6 +15,8 @@ StationarityNodeSettings ReadStationarityNodeSettings(ConfigReader r) {
   r.Get("max_pair_dt_s", &d.max_pair_dt_s, Positive<double>());
   r.Get("still_flow_px", &d.image.still_flow_px, Positive<double>());
   r.Get("still_change_m", &d.lidar.still_change_m, Positive<double>());
+  r.Get("raw_queue_depth", &s.raw_queue_depth, InRange(1, 1000));
+  r.Get("max_image_rate_hz", &s.max_image_rate_hz, NonNegative<double>());
   r.Finish();
   const std::string error = d.Validate();
   if (!error.empty()) r.FailSection(error);
@@ -24,19 +26,69 @@ StationarityNodeSettings ReadStationarityNodeSettings(ConfigReader r) {
 void StationarityNode::Start(Bus& bus) {
   subscriptions_.push_back(bus.Subscribe<camera_info_t>(
       channels::kCameraInfo, std::function<void(const camera_info_t&)>([this](const camera_info_t& c) { camera_ = c; })));
-  subscriptions_.push_back(bus.Subscribe<image_t>(
-      channels::kCameraImage, std::function<void(const image_t&)>([this, &bus](const image_t& msg) {
-        const auto start = std::chrono::steady_clock::now();
-        const cv::Mat image = ImageToMat(msg);  // a bad encoding throws: reported, the node goes on
-        for (const auto& s : detector_.AddImage(msg.utime, image)) Emit(bus, s);
-        busy_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      })));
-  subscriptions_.push_back(bus.Subscribe<point_cloud_t>(
-      channels::kLidarScan, std::function<void(const point_cloud_t&)>([this, &bus](const point_cloud_t& msg) {
-        const auto start = std::chrono::steady_clock::now();
-        for (const auto& s : detector_.AddScan(msg.utime, CloudFromMsg(msg))) Emit(bus, s);
-        busy_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      })));
+  subscriptions_.push_back(
+      bus.SubscribeRaw(channels::kCameraImage, [this](const RawMessage& raw) { Queue(true, raw); }));
+  subscriptions_.push_back(
+      bus.SubscribeRaw(channels::kLidarScan, [this](const RawMessage& raw) { Queue(false, raw); }));
+}
+
+// Latest wins per stream: a full stream drops its oldest queued frame.
+void StationarityNode::Queue(bool image, const RawMessage& raw) {
+  if (image && min_image_interval_us_ > 0) {
+    const int64_t utime = PeekUtime(raw.data, raw.size);
+    // (A clock that went back starts over rather than stalling the camera.)
+    if (last_image_utime_ >= 0 && utime >= last_image_utime_ && utime - last_image_utime_ < min_image_interval_us_ - 1000) {
+      ++images_decimated_;
+      return;
+    }
+    last_image_utime_ = utime;
+  }
+  int& queued = image ? queued_images_ : queued_scans_;
+  if (queued >= raw_queue_depth_) {
+    for (auto it = queue_.begin(); it != queue_.end(); ++it) {
+      if (it->image != image) continue;
+      queue_.erase(it);
+      --queued;
+      ++(image ? images_skipped_ : scans_skipped_);
+      work_.AddSkipped();
+      break;
+    }
+  }
+  queue_.push_back({image, std::vector<uint8_t>(raw.data, raw.data + raw.size)});
+  ++queued;
+}
+
+void StationarityNode::Tick(Bus& bus, int64_t) {
+  while (!queue_.empty()) {
+    QueuedFrame frame = std::move(queue_.front());
+    queue_.pop_front();
+    --(frame.image ? queued_images_ : queued_scans_);
+    WorkStats::Timer timer(&work_);
+    WorkStats::Timer per_stream(frame.image ? &image_work_ : &scan_work_);
+    // A bad frame throws: reported by the stage's main loop, the frames after it are taken next time.
+    frame.image ? TakeImage(bus, frame.bytes) : TakeScan(bus, frame.bytes);
+  }
+}
+
+// The motion is measured on a quick reduced grey decode; the full image is decoded only for a station.
+void StationarityNode::TakeImage(Bus& bus, const std::vector<uint8_t>& bytes) {
+  auto msg = std::make_shared<image_t>();
+  if (msg->decode(bytes.data(), 0, static_cast<int>(bytes.size())) < 0)
+    throw BusError("cannot decode a fusecal.image_t on channel " + std::string(channels::kCameraImage));
+  const cv::Mat motion_image = ImageToMatReduced(*msg, detector_.settings().image.working_width_px);
+  StationarityDetector::StationImage station_image;
+  if (msg->encoding == "jpeg")
+    station_image = [msg] { return ImageToMat(*msg); };
+  else
+    station_image = [motion_image] { return motion_image; };  // already a private full-size copy
+  for (const auto& s : detector_.AddImage(msg->utime, motion_image, station_image)) Emit(bus, s);
+}
+
+void StationarityNode::TakeScan(Bus& bus, const std::vector<uint8_t>& bytes) {
+  point_cloud_t msg;
+  if (msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())) < 0)
+    throw BusError("cannot decode a fusecal.point_cloud_t on channel " + std::string(channels::kLidarScan));
+  for (const auto& s : detector_.AddScan(msg.utime, CloudFromMsg(msg))) Emit(bus, s);
 }
 
 void StationarityNode::Emit(Bus& bus, const DetectedStation& s) {
@@ -57,6 +109,7 @@ void StationarityNode::Emit(Bus& bus, const DetectedStation& s) {
 }
 
 void StationarityNode::Flush(Bus& bus) {
+  Tick(bus, NowUtime());
   if (auto s = detector_.Flush()) Emit(bus, *s);
 }
 
@@ -71,10 +124,15 @@ StageStatus StationarityNode::Status() const {
                 {"still_for_s", state.still_for_s},
                 {"images", double(c.images_received)},
                 {"scans", double(c.scans_received)},
+                {"images_skipped", double(images_skipped_)},
+                {"scans_skipped", double(scans_skipped_)},
+                {"images_decimated", double(images_decimated_)},
                 {"images_without_texture", double(c.images_without_texture)},
                 {"out_of_order", double(c.images_out_of_order + c.scans_out_of_order)},
-                {"without_camera_info", without_camera_info_},
-                {"busy_s", busy_s_}};
+                {"without_camera_info", without_camera_info_}};
+  work_.AddTo(&s.counters);
+  s.counters["image_ms_mean"] = image_work_.mean_ms();
+  s.counters["scan_ms_mean"] = scan_work_.mean_ms();
   return s;
 }
 
