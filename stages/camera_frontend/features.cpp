@@ -103,6 +103,28 @@ void Detect(const cv::Mat& grey, const cv::Mat& mask, const CameraModel& camera,
     all_descriptors.row(keep[r]).copyTo(descriptors->row(r));
 }
 
+// Detect on the image scaled by settings.detection_scale, keypoints in pixels of the full image (pixel
+// centres at integers: a scaled pixel centre u_s maps to (u_s + 0.5) / scale - 0.5).
+void DetectScaled(const cv::Mat& grey, const cv::Mat& mask, const CameraModel& camera, const FeatureSettings& s,
+                  std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors) {
+  const double scale = s.detection_scale;
+  if (scale >= 1.0) return Detect(grey, mask, camera, s, keypoints, descriptors);
+  const cv::Size size(std::max(1, static_cast<int>(std::lround(grey.cols * scale))),
+                      std::max(1, static_cast<int>(std::lround(grey.rows * scale))));
+  cv::Mat grey_small, mask_small;
+  cv::resize(grey, grey_small, size, 0, 0, cv::INTER_AREA);
+  cv::resize(mask, mask_small, size, 0, 0, cv::INTER_NEAREST);
+  FeatureSettings scaled = s;
+  scaled.seam_padding_px = std::max(1, static_cast<int>(std::lround(s.seam_padding_px * scale)));
+  Detect(grey_small, mask_small, camera, scaled, keypoints, descriptors);
+  const double sx = static_cast<double>(grey.cols) / size.width, sy = static_cast<double>(grey.rows) / size.height;
+  for (cv::KeyPoint& kp : *keypoints) {
+    kp.pt.x = static_cast<float>((kp.pt.x + 0.5) * sx - 0.5);
+    kp.pt.y = static_cast<float>((kp.pt.y + 0.5) * sy - 0.5);
+    kp.size = static_cast<float>(kp.size * sx);
+  }
+}
+
 }  // namespace
 
 ImageFeatures ExtractImageFeatures(const cv::Mat& image, const CameraModel& camera,
@@ -130,7 +152,7 @@ ImageFeatures ExtractImageFeatures(const cv::Mat& image, const CameraModel& came
 
     std::vector<cv::KeyPoint> keypoints;
     cv::Mat descriptors;
-    Detect(grey, mask, camera, settings, &keypoints, &descriptors);
+    DetectScaled(grey, mask, camera, settings, &keypoints, &descriptors);
     out.detected = static_cast<int>(keypoints.size());
     if (keypoints.empty()) return finish("no features: AKAZE found no keypoint (blank or textureless image)");
 

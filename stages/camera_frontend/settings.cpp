@@ -15,6 +15,7 @@ std::string FeatureSettings::Validate() const {
   if (!Positive(akaze_threshold)) return "akaze_threshold: must be positive";
   if (akaze_octaves < 1 || akaze_octaves > 8) return "akaze_octaves: must be in [1, 8]";
   if (akaze_octave_layers < 1 || akaze_octave_layers > 8) return "akaze_octave_layers: must be in [1, 8]";
+  if (!(detection_scale >= 0.1 && detection_scale <= 1.0)) return "detection_scale: must be in [0.1, 1]";
   if (!(max_abs_latitude_deg > 0 && max_abs_latitude_deg <= 90))
     return "max_abs_latitude_deg: must be in (0, 90]";
   if (seam_padding_px < 0 || seam_padding_px > 512) return "seam_padding_px: must be in [0, 512]";

@@ -20,6 +20,10 @@ struct FeatureSettings {
   double akaze_threshold = 0.0005;
   int akaze_octaves = 4;
   int akaze_octave_layers = 4;
+  // AKAZE runs on the grey image scaled by this (cv::INTER_AREA); keypoints are mapped back to pixels of
+  // the full image before they are unprojected. 1: full resolution. AKAZE's cost grows with the pixel
+  // count: 0.5 extracts a 2048x1024 panorama about 3x faster (tools/bench-realtime).
+  double detection_scale = 1.0;
 
   // Equirectangular only: no features beyond this |latitude| (the poles are stretched along the rows, so
   // descriptors there are unreliable); columns are padded by wrap-around so features on the seam see their

@@ -10,6 +10,7 @@ CameraFrontendNodeSettings ReadCameraFrontendNodeSettings(ConfigReader r) {
   CameraFrontendNodeSettings s;
   r.Get("previous_stations", &s.previous_stations, InRange(1, 10));
   r.Get("max_features", &s.frontend.features.max_features, Positive<int>());
+  r.Get("detection_scale", &s.frontend.features.detection_scale, InRange(0.1, 1.0));
   r.Get("ratio", &s.frontend.matching.ratio, InRange(0.1, 1.0));
   r.Get("min_inliers", &s.frontend.min_inliers, Positive<int>());
   r.Finish();

@@ -13,6 +13,7 @@
 namespace fusecal {
 
 struct CameraFrontendNodeSettings {
+  CameraFrontendNodeSettings() { frontend.features.detection_scale = 0.5; }  // live: AKAZE at half size
   int previous_stations = 1;  // must match lidar_icp.previous_stations
   CameraFrontendSettings frontend;
 };
