@@ -30,6 +30,7 @@ float DepthGrid::Near(int row, int col) const {
 
 void DepthGrid::Insert(const Eigen::Vector2d& pixel, double range) {
   if (cols_ == 0 || rows_ == 0) return;
+  pair_memo_.clear();
   float& cell = min_[static_cast<size_t>(Row(pixel.y())) * cols_ + Col(pixel.x())];
   cell = std::min(cell, static_cast<float>(range));
 }
@@ -39,23 +40,39 @@ double DepthGrid::OwnMin(const Eigen::Vector2d& pixel) const {
   return Near(Row(pixel.y()), Col(pixel.x()));
 }
 
-DepthGrid::Contrast DepthGrid::SecondDifference(const Eigen::Vector2d& pixel, double range,
-                                                double radius_px) const {
-  Contrast out;
-  if (cols_ == 0 || rows_ == 0) return out;
-  const int r0 = Row(pixel.y()), c0 = Col(pixel.x());
-  const int k = static_cast<int>(std::ceil(radius_px / cell_px_));
+// The extremes of (near(+o) + near(-o)) / 2 over the mirrored pairs of one cell, computed once per cell
+// and radius: every point of a cell shares them, and subtracting the point's range afterwards gives the
+// same numbers as subtracting it pair by pair (rounding is monotonic).
+const DepthGrid::PairExtremes& DepthGrid::CellPairs(int r0, int c0, int k) const {
+  std::vector<PairExtremes>& memo = pair_memo_[k];
+  if (memo.empty()) memo.resize(min_.size());
+  PairExtremes& e = memo[static_cast<size_t>(r0) * cols_ + c0];
+  if (e.computed) return e;
+  e.computed = true;
   // Half of the offsets: (dr > 0) or (dr == 0 and dc > 0); each with its mirror.
   for (int dr = 0; dr <= k; ++dr) {
     for (int dc = -k; dc <= k; ++dc) {
       if (dr == 0 && dc <= 0) continue;
       const float a = Near(r0 + dr, c0 + dc), b = Near(r0 - dr, c0 - dc);
       if (!std::isfinite(a) || !std::isfinite(b)) continue;
-      const double s = 0.5 * (static_cast<double>(a) + b) - range;
-      out.most_negative = std::min(out.most_negative, s);
-      out.most_positive = std::max(out.most_positive, s);
+      const double mean = 0.5 * (static_cast<double>(a) + b);
+      e.any = true;
+      e.lowest = std::min(e.lowest, mean);
+      e.highest = std::max(e.highest, mean);
     }
   }
+  return e;
+}
+
+DepthGrid::Contrast DepthGrid::SecondDifference(const Eigen::Vector2d& pixel, double range,
+                                                double radius_px) const {
+  Contrast out;
+  if (cols_ == 0 || rows_ == 0) return out;
+  const int r0 = Row(pixel.y()), c0 = Col(pixel.x());  // clamped into the grid
+  const PairExtremes& e = CellPairs(r0, c0, static_cast<int>(std::ceil(radius_px / cell_px_)));
+  if (!e.any) return out;
+  out.most_negative = std::min(0.0, e.lowest - range);
+  out.most_positive = std::max(0.0, e.highest - range);
   return out;
 }
 

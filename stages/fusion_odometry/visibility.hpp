@@ -12,6 +12,8 @@
 // which a plain "nearest range nearby" test would wrongly hide.
 #pragma once
 
+#include <limits>
+#include <map>
 #include <vector>
 
 #include "foundation/camera_model.hpp"
@@ -46,10 +48,18 @@ class DepthGrid {
   int Col(double u) const;
   int Row(double v) const;
   float Near(int row, int col) const;  // +inf outside the rows or for an empty cell; columns wrap
+  struct PairExtremes {
+    bool computed = false, any = false;
+    double lowest = std::numeric_limits<double>::infinity();
+    double highest = -std::numeric_limits<double>::infinity();
+  };
+  const PairExtremes& CellPairs(int row, int col, int k) const;
 
   int cell_px_ = 1, cols_ = 0, rows_ = 0;
   bool wrap_ = false;
   std::vector<float> min_;
+  // Per neighbourhood size k: the pair extremes of each cell, filled on first use (Insert clears them).
+  mutable std::map<int, std::vector<PairExtremes>> pair_memo_;
 };
 
 struct VisibleScan {

@@ -1,6 +1,7 @@
 #include "fusion_odometry/node/fusion_odometry_node.hpp"
 
 #include <chrono>
+#include <opencv2/core/utility.hpp>
 
 #include "fusecal/motion_t.hpp"
 #include "runtime/channels.hpp"
@@ -19,10 +20,14 @@ FusionOdometryNodeSettings ReadFusionOdometryNodeSettings(ConfigReader r) {
 
 void FusionOdometryNode::Start(Bus& bus) {
   subscriptions_.push_back(bus.Subscribe<station_t>(
-      channels::kStation, std::function<void(const station_t&)>([this](const station_t& s) { OnStation(s); })));
+      channels::kStation, std::function<void(const station_t&)>([this, &bus](const station_t& s) {
+        OnStation(s);
+        AnswerPendingIfReady(bus, false);
+      })));
   subscriptions_.push_back(bus.Subscribe<motion_t>(
-      channels::kLidarMotion, std::function<void(const motion_t&)>([this](const motion_t& m) {
+      channels::kLidarMotion, std::function<void(const motion_t&)>([this, &bus](const motion_t& m) {
         if (m.valid) lidar_motions_[{m.station_i, m.station_j}] = FromRowMajor(m.T_i_j);
+        AnswerPendingIfReady(bus, false);
       })));
   subscriptions_.push_back(bus.Subscribe<extrinsic_t>(
       channels::kExtrinsic,
@@ -37,7 +42,8 @@ void FusionOdometryNode::OnStation(const station_t& station) {
   stations_[station.id] = std::move(cached);
 }
 
-motion_t FusionOdometryNode::ComputeMotion(int i, int j, const Isometry3& X, int version) {
+motion_t FusionOdometryNode::ComputeMotion(int i, int j, const Isometry3& X, int version,
+                                           fusion_odometry::FusionOdometryResult* result) const {
   const int64_t now = NowUtime();
   const auto si = stations_.find(i), sj = stations_.find(j);
   if (si == stations_.end() || sj == stations_.end())
@@ -52,24 +58,45 @@ motion_t FusionOdometryNode::ComputeMotion(int i, int j, const Isometry3& X, int
   } else if (lidar != lidar_motions_.end()) {
     guess.T_ci_cj = fusion_odometry::CameraMotionFromLidar(X, lidar->second);
   }
-  const auto result = fusion_odometry::EstimateScaledMotion(si->second.cloud, si->second.image, sj->second.image,
-                                                            *si->second.camera, X, guess, settings_.odometry);
-  busy_s_ += result.seconds;
-  motion_t m = result.converged
-                   ? MakeMotion(i, j, "camera", result.T_ci_cj, true, result.covariance, now)
-                   : MakeFailedMotion(i, j, "camera", result.failure_reason, now);
-  m.inliers = result.inliers;
-  m.rmse = result.rms_residual_px;
-  m.iterations = result.refinement_iterations;
-  m.seconds = result.seconds;
+  *result = fusion_odometry::EstimateScaledMotion(si->second.cloud, si->second.image, sj->second.image,
+                                                  *si->second.camera, X, guess, settings_.odometry);
+  motion_t m = result->converged ? MakeMotion(i, j, "camera", result->T_ci_cj, true, result->covariance, now)
+                                 : MakeFailedMotion(i, j, "camera", result->failure_reason, now);
+  m.inliers = result->inliers;
+  m.rmse = result->rms_residual_px;
+  m.iterations = result->refinement_iterations;
+  m.seconds = result->seconds;
   m.extrinsic_version = version;
-  if (result.converged) {
-    last_camera_motions_[{i, j}] = result.T_ci_cj;
-    ++motions_;
-  } else {
-    ++failures_;
-  }
   return m;
+}
+
+// The motions of one round are independent (each reads the stations, the LiDAR motions and its own warm
+// start): they are computed in parallel on both cores, then recorded in the order of the request, so the
+// answer is the same as computed one after the other.
+std::vector<motion_t> FusionOdometryNode::ComputeMotions(const extrinsic_t& extrinsic) {
+  const Isometry3 X = FromRowMajor(extrinsic.T_camera_lidar);
+  const int n = extrinsic.num_used;
+  std::vector<motion_t> motions(n);
+  std::vector<fusion_odometry::FusionOdometryResult> results(n);
+  // OpenCV's own threads inside each motion would compete with these (measured: a round took longer in
+  // parallel than one after the other); one motion per core instead.
+  const int opencv_threads = cv::getNumThreads();
+  if (n > 1) cv::setNumThreads(1);
+#pragma omp parallel for schedule(dynamic, 1) if (n > 1)
+  for (int k = 0; k < n; ++k)
+    motions[k] = ComputeMotion(extrinsic.used_station_i[k], extrinsic.used_station_j[k], X, extrinsic.version,
+                               &results[k]);
+  if (n > 1) cv::setNumThreads(opencv_threads);
+  for (int k = 0; k < n; ++k) {
+    work_.Add(results[k].seconds);
+    if (results[k].converged) {
+      last_camera_motions_[{motions[k].station_i, motions[k].station_j}] = results[k].T_ci_cj;
+      ++motions_;
+    } else {
+      ++failures_;
+    }
+  }
+  return motions;
 }
 
 void FusionOdometryNode::OnExtrinsic(Bus& bus, const extrinsic_t& extrinsic) {
@@ -80,12 +107,35 @@ void FusionOdometryNode::OnExtrinsic(Bus& bus, const extrinsic_t& extrinsic) {
   }
   // Only versions that ask for refinement are answered.
   if (extrinsic.version <= newest_answered_ || extrinsic.status != extrinsic_t::STATUS_REFINING) return;
-  const Isometry3 X = FromRowMajor(extrinsic.T_camera_lidar);
+  pending_ = extrinsic;
+  pending_since_utime_ = NowUtime();
+  AnswerPendingIfReady(bus, settings_.input_wait_s <= 0);
+}
+
+// Channels are not ordered with respect to each other (DDS has a reader per topic): a request may come
+// before the stations or the LiDAR motions it needs, and the LiDAR motion is the first guess of a pair.
+// The answer waits for them (at most input_wait_s, then goes ahead), so that it does not depend on the
+// order of arrival and `run` computes what `calibrate` computes. (In-process, over memq, the order is
+// the order of publication: `calibrate` sets input_wait_s to 0.)
+bool FusionOdometryNode::HasInputsFor(const extrinsic_t& e) const {
+  for (int k = 0; k < e.num_used; ++k) {
+    const PairKey key{e.used_station_i[k], e.used_station_j[k]};
+    if (!stations_.count(key.first) || !stations_.count(key.second)) return false;
+    if (!last_camera_motions_.count(key) && !lidar_motions_.count(key)) return false;
+  }
+  return true;
+}
+
+void FusionOdometryNode::AnswerPendingIfReady(Bus& bus, bool waited_enough) {
+  if (!pending_ || pending_->version <= newest_answered_) return;
+  if (!waited_enough && !HasInputsFor(*pending_)) return;
+  if (waited_enough) ++answered_without_inputs_;
+  const extrinsic_t extrinsic = *pending_;
+  pending_.reset();
   motion_set_t answer{};
+  answer.motions = ComputeMotions(extrinsic);
   answer.utime = NowUtime();
   answer.extrinsic_version = extrinsic.version;
-  for (int k = 0; k < extrinsic.num_used; ++k)
-    answer.motions.push_back(ComputeMotion(extrinsic.used_station_i[k], extrinsic.used_station_j[k], X, extrinsic.version));
   answer.num_motions = static_cast<int32_t>(answer.motions.size());
   newest_answered_ = extrinsic.version;
   answered_[extrinsic.version] = answer;
@@ -93,10 +143,16 @@ void FusionOdometryNode::OnExtrinsic(Bus& bus, const extrinsic_t& extrinsic) {
   bus.Publish(channels::kFusedMotions, answer);
 }
 
+void FusionOdometryNode::Tick(Bus& bus, int64_t now_utime) {
+  if (pending_ && now_utime - pending_since_utime_ > settings_.input_wait_s * 1e6) AnswerPendingIfReady(bus, true);
+}
+
 StageStatus FusionOdometryNode::Status() const {
   StageStatus s;
   s.counters = {{"stations", double(stations_.size())}, {"motions", motions_}, {"failures", failures_},
-                {"repeats", repeats_},                  {"version", newest_answered_}, {"busy_s", busy_s_}};
+                {"repeats", repeats_},                  {"version", newest_answered_},
+                {"answered_without_inputs", answered_without_inputs_}};
+  work_.AddTo(&s.counters);  // items: motions computed (one per pair and iteration)
   return s;
 }
 

@@ -6,6 +6,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/motion_set_t.hpp"
@@ -13,11 +14,13 @@
 #include "fusion_odometry/fusion_odometry.hpp"
 #include "runtime/config_reader.hpp"
 #include "runtime/stage_main.hpp"
+#include "runtime/work_stats.hpp"
 
 namespace fusecal {
 
 struct FusionOdometryNodeSettings {
   fusion_odometry::FusionOdometrySettings odometry;
+  double input_wait_s = 2.0;  // how long a request waits for the stations and LiDAR motions it needs
 };
 
 FusionOdometryNodeSettings ReadFusionOdometryNodeSettings(ConfigReader section);
@@ -26,6 +29,7 @@ class FusionOdometryNode : public StageNode {
  public:
   explicit FusionOdometryNode(FusionOdometryNodeSettings settings) : settings_(std::move(settings)) {}
   void Start(Bus& bus) override;
+  void Tick(Bus& bus, int64_t now_utime) override;
   StageStatus Status() const override;
 
  private:
@@ -37,7 +41,11 @@ class FusionOdometryNode : public StageNode {
   using PairKey = std::pair<int, int>;
   void OnStation(const station_t& station);
   void OnExtrinsic(Bus& bus, const extrinsic_t& extrinsic);
-  motion_t ComputeMotion(int i, int j, const Isometry3& X, int version);
+  motion_t ComputeMotion(int i, int j, const Isometry3& X, int version,
+                         fusion_odometry::FusionOdometryResult* result) const;
+  std::vector<motion_t> ComputeMotions(const extrinsic_t& extrinsic);
+  bool HasInputsFor(const extrinsic_t& extrinsic) const;
+  void AnswerPendingIfReady(Bus& bus, bool waited_enough);
 
   FusionOdometryNodeSettings settings_;
   std::map<int, CachedStation> stations_;
@@ -45,9 +53,12 @@ class FusionOdometryNode : public StageNode {
   std::map<PairKey, Isometry3> last_camera_motions_;  // warm start of the next version
   std::map<int, motion_set_t> answered_;              // version -> answer (kept small)
   int newest_answered_ = -1;
+  std::optional<extrinsic_t> pending_;  // the newest request, until its inputs are here
+  int64_t pending_since_utime_ = 0;
+  int answered_without_inputs_ = 0;
   std::vector<Subscription> subscriptions_;
   int motions_ = 0, failures_ = 0, repeats_ = 0;
-  double busy_s_ = 0;
+  WorkStats work_;
 };
 
 }  // namespace fusecal
