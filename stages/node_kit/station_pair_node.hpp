@@ -8,7 +8,6 @@
 // (so that nobody waits for them) and is not kept for pairing; the error is rethrown for the stage's log.
 #pragma once
 
-#include <chrono>
 #include <deque>
 #include <map>
 #include <stdexcept>
@@ -22,6 +21,7 @@
 #include "runtime/bus.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/stage_main.hpp"
+#include "runtime/work_stats.hpp"
 
 namespace fusecal {
 
@@ -40,7 +40,8 @@ class StationPairNode : public StageNode {
   StageStatus Status() const override {
     StageStatus s;
     s.state = state_;
-    s.counters = {{"stations", stations_}, {"motions", motions_}, {"failures", failures_}, {"busy_s", busy_s_}};
+    s.counters = {{"stations", stations_}, {"motions", motions_}, {"failures", failures_}};
+    work_.AddTo(&s.counters);  // items: stations prepared and paired
     return s;
   }
 
@@ -57,20 +58,23 @@ class StationPairNode : public StageNode {
     }
     published_[station.id];
     ++stations_;
-    const auto start = std::chrono::steady_clock::now();
+    WorkStats::Timer timer(&work_);
     state_ = "working on station " + std::to_string(station.id);
     Prepared current;
     try {
       current = Prepare(station);
     } catch (const std::exception& e) {
       AnswerBadStation(bus, station, e.what());
-      busy_s_ += Seconds(start);
       throw std::runtime_error("station " + std::to_string(station.id) + ": " + e.what());
     }
-    for (const auto& [previous_id, previous] : previous_) Publish(bus, station.id, Pair(previous_id, previous, station, current));
-    previous_.emplace_back(station.id, std::move(current));
+    // Motions go from lower to higher ids, whatever the order of arrival (after a restart a station may
+    // come before the ones it follows); the k highest ids are kept for pairing.
+    for (const auto& [previous_id, previous] : previous_)
+      if (previous_id < station.id) Publish(bus, station.id, Pair(previous_id, previous, station, current));
+    auto at = previous_.begin();
+    while (at != previous_.end() && at->first < station.id) ++at;
+    previous_.emplace(at, station.id, std::move(current));
     while (static_cast<int>(previous_.size()) > previous_stations_) previous_.pop_front();
-    busy_s_ += Seconds(start);
     state_ = "waiting";
   }
 
@@ -78,7 +82,8 @@ class StationPairNode : public StageNode {
     ++failures_;
     state_ = "waiting";
     for (const auto& previous : previous_)
-      Publish(bus, station.id, MakeFailedMotion(previous.first, station.id, sensor_, why, station.utime));
+      if (previous.first < station.id)
+        Publish(bus, station.id, MakeFailedMotion(previous.first, station.id, sensor_, why, station.utime));
   }
 
   void Publish(Bus& bus, int station_id, const motion_t& motion) {
@@ -87,17 +92,13 @@ class StationPairNode : public StageNode {
     published_[station_id].push_back(motion);
   }
 
-  static double Seconds(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
-
   std::string sensor_, channel_;
   int previous_stations_;
-  std::deque<std::pair<int, Prepared>> previous_;  // (station id, prepared), newest last
+  std::deque<std::pair<int, Prepared>> previous_;  // (station id, prepared), by id, highest last
   std::map<int, std::vector<motion_t>> published_;  // per station, for repeats
   std::vector<Subscription> subscriptions_;
   int stations_ = 0, motions_ = 0, failures_ = 0;
-  double busy_s_ = 0;
+  WorkStats work_;
   std::string state_ = "waiting";
 };
 

@@ -28,9 +28,11 @@ void AddCalibrateCommand(CLI::App& app, int* exit_code) {
       });
       if (tty) std::cerr << "\n";
       std::cout << SummaryText(report.outputs, out);
-      std::cout << std::fixed << std::setprecision(2) << "time: " << report.total_seconds << " s total;";
+      std::cout << std::fixed << std::setprecision(2) << "time: " << report.total_seconds << " s total ("
+                << report.total_seconds / std::max(1e-9, report.span_s) << " x the recording's " << report.span_s
+                << " s; outputs " << report.outputs_seconds << " s);";
       for (const auto& [stage, seconds] : report.stage_seconds) std::cout << " " << stage << " " << seconds << " s";
-      std::cout << "\n";
+      std::cout << "\n" << StageTableText(report.stage_counters, report.span_s);
       *exit_code = report.outputs.final_result.status == "converged" ? 0 : 1;
     } catch (const std::exception& e) {
       std::cerr << "fusecal calibrate: " << e.what() << "\n";

@@ -1,4 +1,4 @@
-// `fusecal run --config configs/pipeline.yaml [--log LOG [--speed X]] --out DIR`.
+// `fusecal run --config configs/pipeline.yaml [--log LOG [--speed X] [--live]] --out DIR`.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -25,9 +25,17 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--speed", options.speed, "replay speed (1 = recorded timing, 0 = as fast as the stages go)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--live", options.live,
+                "play the log at recorded time (x speed) without waiting for the stages, as sensors do; "
+                "writes latency.csv");
   cmd->add_option("--bus", options.bus_url, "bus URL (default: the config's)");
   cmd->add_option("--out", options.out_dir, "output folder")->required();
   cmd->callback([exit_code] {
+    if (options.live && (options.log_path.empty() || options.speed <= 0)) {
+      std::cerr << "fusecal run: --live plays a log at recorded time: give --log and a --speed above 0\n";
+      *exit_code = 2;
+      return;
+    }
     std::signal(SIGINT, OnSignal);
     std::signal(SIGTERM, OnSignal);
     const bool tty = isatty(STDERR_FILENO);
@@ -45,12 +53,16 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
       if (tty) std::cerr << "\n";
       if (g_stop) std::cerr << "stopped by signal; writing what was computed\n";
       std::cout << SummaryText(report.outputs, options.out_dir);
-      std::cout << std::fixed << std::setprecision(2) << "time: " << report.total_seconds << " s total;";
+      std::cout << std::fixed << std::setprecision(2) << "time: " << report.total_seconds << " s total ("
+                << report.total_seconds / std::max(1e-9, report.span_s) << " x the recording's " << report.span_s
+                << " s: startup " << report.startup_seconds << " s, replay " << report.replay_seconds
+                << " s, after the log " << report.after_log_seconds << " s, stop and outputs "
+                << report.outputs_seconds << " s);";
       for (const auto& [stage, seconds] : report.stage_seconds) std::cout << " " << stage << " " << seconds << " s";
       std::cout << "; stage restarts: " << report.restarts;
       if (report.roudi_restarts > 0) std::cout << "; RouDi restarts: " << report.roudi_restarts;
       if (report.used_dds) std::cout << "; messages lost by the bus: " << report.bus_dropped;
-      std::cout << "\n";
+      std::cout << "\n" << StageTableText(report.stage_counters, report.span_s) << LatencyText(report.latencies);
       *exit_code = report.outputs.final_result.status == "converged" ? 0 : 1;
     } catch (const std::exception& e) {
       std::cerr << "\nfusecal run: " << e.what() << "\n";

@@ -9,6 +9,20 @@
 
 namespace fusecal {
 
+namespace {
+
+// Each node's work from its last status: busy seconds and every counter (stages.csv).
+void RecordStageWork(const std::vector<NamedNode>& nodes, CalibrateReport* report) {
+  for (const auto& n : nodes) {
+    const StageStatus status = n.node->Status();
+    const auto busy = status.counters.find("busy_s");
+    report->stage_seconds[n.name] = busy == status.counters.end() ? 0.0 : busy->second;
+    report->stage_counters[n.name] = status.counters;
+  }
+}
+
+}  // namespace
+
 CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out_dir, const PipelineConfig& config,
                              const std::function<void(const std::string&)>& progress) {
   const auto start = std::chrono::steady_clock::now();
@@ -18,20 +32,45 @@ CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out
   auto bus = MakeBus("memq://");
   PipelineConfig in_process = config;
   in_process.handeye.retry_s = 0;  // memq loses nothing; retries would only make runs differ
+  in_process.fusion_odometry.input_wait_s = 0;  // memq keeps the order: what is missing never comes
   SessionRecord session(*bus, out_dir + "/session.lcmlog", false);
   std::vector<NamedNode> nodes = MakeStageNodes(in_process, use_detector);
   for (auto& n : nodes) n.node->Start(*bus);
 
   size_t stations_seen = 0, versions_seen = 0;
-  auto drain = [&] {
-    // A stage that fails on one message (a corrupt image, a bad scan) says why and goes on, as its
-    // process would: nothing computed so far is lost.
-    for (;;) {
+  // A stage that fails on one message (a corrupt image, a bad scan) says why and goes on, as its process
+  // would: nothing computed so far is lost.
+  auto report_error = [&](const std::exception& e) {
+    if (progress) progress(std::string("stage error (continuing): ") + e.what());
+  };
+  auto handle_once = [&] {
+    try {
+      return bus->Handle(0);
+    } catch (const std::exception& e) {
+      report_error(e);
+      return 1;
+    }
+  };
+  // Each node's Tick does its queued work (the detector takes its frames); true when one failed.
+  auto tick_all = [&] {
+    bool failed = false;
+    for (auto& n : nodes) {
       try {
-        if (bus->Handle(0) == 0) break;
+        n.node->Tick(*bus, NowUtime());
       } catch (const std::exception& e) {
-        if (progress) progress(std::string("stage error (continuing): ") + e.what());
+        report_error(e);
+        failed = true;
       }
+    }
+    return failed;
+  };
+  // Until nothing moves: every message handled, every node's queued work done.
+  auto drain = [&] {
+    for (;;) {
+      while (handle_once() > 0) {
+      }
+      if (tick_all()) continue;
+      if (handle_once() == 0) break;
     }
     if (progress && (session.stations().size() != stations_seen || session.extrinsics().size() != versions_seen)) {
       stations_seen = session.stations().size();
@@ -40,8 +79,11 @@ CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out
     }
   };
   LogReader reader(log_path);
+  int64_t first_utime = -1, last_utime = -1;
   while (auto event = reader.Next()) {
     if (!FeedsPipeline(event->channel, use_detector)) continue;
+    if (first_utime < 0) first_utime = event->utime;
+    last_utime = std::max(last_utime, event->utime);
     bus->PublishRaw(event->channel, event->data.data(), event->data.size());
     drain();
   }
@@ -50,14 +92,14 @@ CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out
   for (const auto& problem : reader.problems()) progress ? progress("log: " + problem) : void();
 
   CalibrateReport report;
-  for (auto& n : nodes) {
-    const StageStatus status = n.node->Status();
-    const auto busy = status.counters.find("busy_s");
-    report.stage_seconds[n.name] = busy == status.counters.end() ? 0.0 : busy->second;
-  }
+  RecordStageWork(nodes, &report);
   session.Close();
   report.stations = static_cast<int>(session.stations().size());
+  report.span_s = first_utime < 0 ? 0.0 : (last_utime - first_utime) * 1e-6;
+  const auto outputs_start = std::chrono::steady_clock::now();
   report.outputs = WriteCalibrationOutputs(session, out_dir);
+  report.outputs.files.push_back(WriteStageTable(out_dir, report.stage_counters, report.span_s));
+  report.outputs_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - outputs_start).count();
   report.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }

@@ -7,12 +7,16 @@
 
 #include "pipeline/outputs.hpp"
 #include "pipeline/pipeline_config.hpp"
+#include "pipeline/stage_table.hpp"
 
 namespace fusecal {
 
 struct CalibrateReport {
   CalibrationOutputs outputs;
   std::map<std::string, double> stage_seconds;  // time spent in each stage's handlers
+  StageCounters stage_counters;                 // each stage's last STATUS counters (stages.csv)
+  double span_s = 0;                            // recording span: first to last event fed
+  double outputs_seconds = 0;                   // writing extrinsic.yaml, pictures, cloud
   double total_seconds = 0;
   int stations = 0;
 };

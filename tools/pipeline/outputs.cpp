@@ -76,8 +76,14 @@ void WriteConvergence(const SessionRecord& session, const std::optional<Isometry
     out->warnings.push_back("convergence.png not drawn: gnuplot (Debian package gnuplot-nox) failed or is missing");
 }
 
+// One picture per station, drawn in parallel (they are independent).
 void WriteOverlays(const SessionRecord& session, const Isometry3& X, const std::string& dir, CalibrationOutputs* out) {
-  for (const auto& [id, station] : session.stations()) {
+  std::vector<const station_t*> stations;
+  for (const auto& [id, station] : session.stations()) stations.push_back(&station);
+  std::vector<std::string> files(stations.size()), warnings(stations.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int k = 0; k < static_cast<int>(stations.size()); ++k) {
+    const station_t& station = *stations[k];
     try {
       const cv::Mat image = ImageToMat(station.image);
       const PointCloud cloud = CloudFromMsg(station.cloud);
@@ -86,12 +92,16 @@ void WriteOverlays(const SessionRecord& session, const Isometry3& X, const std::
       cv::Mat depth = RenderDepthOverlay(image, cloud, *camera, X);
       cv::Mat both;
       cv::vconcat(board, depth, both);
-      const std::string path = dir + "/overlay-" + std::to_string(id) + ".png";
+      const std::string path = dir + "/overlay-" + std::to_string(station.id) + ".png";
       cv::imwrite(path, both);
-      out->files.push_back(path);
+      files[k] = path;
     } catch (const std::exception& e) {
-      out->warnings.push_back("overlay of station " + std::to_string(id) + ": " + e.what());
+      warnings[k] = "overlay of station " + std::to_string(station.id) + ": " + e.what();
     }
+  }
+  for (size_t k = 0; k < stations.size(); ++k) {
+    if (!files[k].empty()) out->files.push_back(files[k]);
+    if (!warnings[k].empty()) out->warnings.push_back(warnings[k]);
   }
 }
 

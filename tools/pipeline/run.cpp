@@ -80,17 +80,24 @@ class PipelineRun {
         supervisor_(options.out_dir) {}
 
   RunReport Run() {
+    const auto start = Clock::now();
     StartStages();
     if (!Pump(30, [&] { return watch_.alive.size() == names_.size(); }))
       throw std::runtime_error("not every stage started within 30 s (see " + options_.out_dir + "/<stage>.log)");
+    report_.startup_seconds = Seconds(start);
     if (!options_.log_path.empty()) {
       ReplayLog();
     } else {
       event_("listening to live sensors on " + url_ + " (Ctrl-C to stop)");
       Pump(1e9, nullptr);
     }
-    return Finish();
+    const auto finish = Clock::now();
+    RunReport report = Finish();
+    report.outputs_seconds = Seconds(finish);
+    return report;
   }
+
+  static double Seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
 
  private:
   void StartStages() {
@@ -148,6 +155,16 @@ class PipelineRun {
     }
   }
 
+  // A restarted stage that has not been given the stations again yet: the player holds new messages back
+  // until it has, so that every stage sees the stations in order.
+  bool ResupplyPending() const {
+    for (const auto& p : supervisor_.processes()) {
+      const auto given = resupplied_.find(p.name);
+      if (p.restarts > 0 && (given == resupplied_.end() || given->second != p.pid)) return true;
+    }
+    return false;
+  }
+
   std::function<bool()> SettledAfter(int station_id, bool first) {
     return [this, station_id, first] {
       if (first) return true;
@@ -168,20 +185,23 @@ class PipelineRun {
 
   void ReplayLog() {
     LogReader reader(options_.log_path);
-    int64_t first_utime = -1;
     replay_start_ = Clock::now();  // moved later by the time spent waiting for the stages
+    replay_start_wall_utime_ = NowUtime();
     while (!stop_) {
       auto ev = reader.Next();
       if (!ev) break;
       const std::string& ch = ev->channel;
       if (!FeedsPipeline(ch, use_detector_)) continue;
-      if (first_utime < 0) first_utime = ev->utime;
+      if (first_utime_ < 0) first_utime_ = ev->utime;
+      last_utime_ = std::max(last_utime_, ev->utime);
       if (options_.speed > 0) {
-        const auto due = replay_start_ + std::chrono::microseconds(int64_t((ev->utime - first_utime) / options_.speed));
+        const auto due = replay_start_ + std::chrono::microseconds(int64_t((ev->utime - first_utime_) / options_.speed));
         Pump(std::chrono::duration<double>(due - Clock::now()).count(), nullptr);
       }
+      if (ResupplyPending()) Pump(config_.idle_timeout_s, [&] { return !ResupplyPending(); });
       const size_t stations_before = session_.stations().size();
       bus_->PublishRaw(ch, ev->data.data(), ev->data.size());
+      if (options_.live) continue;  // sensors do not wait
       if (ch == channels::kStation) {
         station_t s{};
         s.decode(ev->data.data(), 0, static_cast<int>(ev->data.size()));
@@ -193,24 +213,57 @@ class PipelineRun {
       }
     }
     for (const auto& problem : reader.problems()) event_("log: " + problem);
+    report_.replay_seconds = Seconds(replay_start_);
+    const auto after_log = Clock::now();
+    if (options_.live) WaitForEveryStation();
     // Let the last round finish.
     Pump(config_.idle_timeout_s, [&] {
       const extrinsic_t* e = session_.Final();
       return !e || !RoundRunning(*e);
     });
+    report_.after_log_seconds = Seconds(after_log);
+  }
+
+  bool AllStopped() const {
+    for (const auto& name : names_) {
+      const auto state = session_.stage_states().find(name);
+      if (state == session_.stage_states().end() || state->second.first != "stopped") return false;
+    }
+    return true;
+  }
+
+  // Live: the log has ended but the stages may still be working on its last stations.
+  void WaitForEveryStation() {
+    Pump(config_.idle_timeout_s, [&] {
+      for (const auto& [id, station] : session_.stations())
+        if (!SettledAfter(id, id == session_.stations().begin()->first)()) return false;
+      return true;
+    });
   }
 
   RunReport Finish() {
-    for (const auto& [name, seconds] : session_.stage_busy_s()) report_.stage_seconds[name] = seconds;
     report_.used_dds = url_.rfind("dds://", 0) == 0;
-    report_.bus_dropped = static_cast<double>(bus_->dropped_messages());
-    for (const auto& [name, dropped] : session_.stage_bus_dropped()) report_.bus_dropped += dropped;
     supervisor_.Stop();
     transport_.Stop();  // after the stages: stopping RouDi ends whatever is still attached to it
     report_.roudi_restarts = transport_.roudi_restarts();
-    bus_->Handle(0);
+    // The stages' last STATUS ("stopped", with their final counters), for at most half a second.
+    for (const auto end = Clock::now() + std::chrono::milliseconds(500); Clock::now() < end && !AllStopped();)
+      bus_->Handle(20);
+    for (const auto& [name, seconds] : session_.stage_busy_s()) report_.stage_seconds[name] = seconds;
+    report_.bus_dropped = static_cast<double>(bus_->dropped_messages());
+    for (const auto& [name, dropped] : session_.stage_bus_dropped()) report_.bus_dropped += dropped;
+    report_.stage_counters = session_.stage_counters();
+    report_.span_s = first_utime_ < 0 ? 0.0 : (last_utime_ - first_utime_) * 1e-6;
     session_.Close();
     report_.outputs = WriteCalibrationOutputs(session_, options_.out_dir);
+    report_.outputs.files.push_back(WriteStageTable(options_.out_dir, report_.stage_counters, report_.span_s));
+    if (options_.live && first_utime_ >= 0) {
+      const double speed = options_.speed > 0 ? options_.speed : 1.0;
+      report_.latencies = StationLatencies(session_, first_utime_, [&](int64_t log_utime) {
+        return replay_start_wall_utime_ + static_cast<int64_t>((log_utime - first_utime_) / speed);
+      });
+      report_.outputs.files.push_back(WriteLatencyTable(options_.out_dir, report_.latencies));
+    }
     return report_;
   }
 
@@ -232,6 +285,8 @@ class PipelineRun {
   std::string last_progress_;
   int stations_published_ = 0;
   Clock::time_point replay_start_;
+  int64_t replay_start_wall_utime_ = 0;
+  int64_t first_utime_ = -1, last_utime_ = -1;  // of the events played
 };
 
 }  // namespace

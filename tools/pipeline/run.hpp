@@ -5,6 +5,9 @@
 //
 // Replay is paced by the pipeline: after each station the player waits until the stages have answered
 // it (motions, and the alternation settled), so a replay computes exactly what `calibrate` computes.
+// Live replay (`live`) plays the log at recorded time (x speed) and never waits, as sensors do: stages
+// that fall behind meet their overload policy (docs/design.md section 5), and the latency of the answer
+// per station is measured (latency.csv).
 #pragma once
 
 #include <atomic>
@@ -12,13 +15,16 @@
 #include <string>
 
 #include "pipeline/outputs.hpp"
+#include "pipeline/latency.hpp"
 #include "pipeline/pipeline_config.hpp"
+#include "pipeline/stage_table.hpp"
 
 namespace fusecal {
 
 struct RunOptions {
   std::string log_path;   // empty: live (listen until Ctrl-C)
   double speed = 1.0;     // replay speed; 0: as fast as the pipeline takes it
+  bool live = false;      // play at recorded time x speed without waiting for the stages
   std::string bus_url;    // empty: the config's
   std::string out_dir;
 };
@@ -30,7 +36,13 @@ struct RunReport {
   bool used_dds = false;
   double bus_dropped = 0;  // messages the buses of the stages and the coordinator know they lost (DDS)
   double total_seconds = 0;
+  // Where the time went: starting the stages, playing the log, the stages' work after its end,
+  // stopping them and writing the outputs.
+  double startup_seconds = 0, replay_seconds = 0, after_log_seconds = 0, outputs_seconds = 0;
   std::map<std::string, double> stage_seconds;
+  StageCounters stage_counters;  // each stage's last STATUS counters (stages.csv)
+  double span_s = 0;             // recording span played
+  std::vector<StationLatency> latencies;  // live replay only (latency.csv)
 };
 
 // `stop` is polled (Ctrl-C); `progress` gets status lines and `event` one-off messages (restarts).

@@ -30,7 +30,10 @@ SessionRecord::SessionRecord(Bus& bus, const std::string& record_path, bool reco
       last_news_utime_ = raw.receive_utime;
     } else if (ch == channels::kExtrinsic) {
       extrinsic_t e{};
-      if (Decode(raw, &e) && (extrinsics_.empty() || e.version > extrinsics_.back().version)) extrinsics_.push_back(e);
+      if (Decode(raw, &e) && (extrinsics_.empty() || e.version > extrinsics_.back().version)) {
+        extrinsics_.push_back(e);
+        extrinsic_receive_utimes_.push_back(raw.receive_utime);
+      }
       last_news_utime_ = raw.receive_utime;
     } else if (ch == channels::kGroundTruth) {
       ground_truth_t g{};
@@ -46,7 +49,9 @@ SessionRecord::SessionRecord(Bus& bus, const std::string& record_path, bool reco
       status_t s{};
       if (!Decode(raw, &s)) return;
       stage_states_[s.name] = {s.state, s.last_error};
+      auto& counters = stage_counters_[s.name];
       for (int i = 0; i < s.num_counters; ++i) {
+        counters[s.counter_names[i]] = s.counter_values[i];
         if (s.counter_names[i] == "busy_s") stage_busy_s_[s.name] = s.counter_values[i];
         if (s.counter_names[i] == "bus_dropped") stage_bus_dropped_[s.name] = s.counter_values[i];
       }

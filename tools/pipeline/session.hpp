@@ -26,6 +26,8 @@ class SessionRecord {
 
   const std::map<int, station_t>& stations() const { return stations_; }
   const std::vector<extrinsic_t>& extrinsics() const { return extrinsics_; }
+  // When each of extrinsics() was received (utime, the bus's clock).
+  const std::vector<int64_t>& extrinsic_receive_utimes() const { return extrinsic_receive_utimes_; }
   const std::optional<ground_truth_t>& ground_truth() const { return ground_truth_; }
   int lidar_motions() const { return lidar_motions_; }
   int camera_motions() const { return camera_motions_; }
@@ -36,6 +38,8 @@ class SessionRecord {
   const std::map<std::string, double>& stage_busy_s() const { return stage_busy_s_; }
   // Messages each stage's bus knows it lost (STATUS counter bus_dropped; DDS only).
   const std::map<std::string, double>& stage_bus_dropped() const { return stage_bus_dropped_; }
+  // Every counter of each stage's latest STATUS.
+  const std::map<std::string, std::map<std::string, double>>& stage_counters() const { return stage_counters_; }
 
   // The latest EXTRINSIC, and the latest scaleless ("initial") one.
   const extrinsic_t* Final() const;
@@ -48,12 +52,14 @@ class SessionRecord {
   bool record_raw_;
   std::map<int, station_t> stations_;
   std::vector<extrinsic_t> extrinsics_;
+  std::vector<int64_t> extrinsic_receive_utimes_;
   std::optional<ground_truth_t> ground_truth_;
   int lidar_motions_ = 0, camera_motions_ = 0, failed_motions_ = 0;
   int64_t last_news_utime_ = 0;
   std::map<std::string, std::pair<std::string, std::string>> stage_states_;
   std::map<std::string, double> stage_busy_s_;
   std::map<std::string, double> stage_bus_dropped_;
+  std::map<std::string, std::map<std::string, double>> stage_counters_;
 };
 
 // True when the log carries STATION messages among its first 500 events (a stop-and-scan dataset or

@@ -87,7 +87,7 @@ void HandEyeNode::StartRound(Bus& bus) {
   const auto start = std::chrono::steady_clock::now();
   // No prior: the scaleless estimate stays what the scaleless motions alone say (the baseline).
   initial_ = SolveScaleless(ScalelessPairs(), settings_.solver);
-  busy_s_ += Seconds(start);
+  work_.Add(Seconds(start));
   iteration_ = 0;
   converged_ = false;
   const bool usable = CanRefine(*initial_);
@@ -133,7 +133,7 @@ void HandEyeNode::OnFusedMotions(Bus& bus, const motion_set_t& set) {
     if (m.scaled && PairWithLidar(m, &p)) pairs.push_back(p);
   }
   HandEyeResult result = SolveScaled(pairs, settings_.solver, &current_->T_camera_lidar);
-  busy_s_ += Seconds(start);
+  work_.Add(Seconds(start));
   if (result.status == handeye_status::kFailed) {
     // Keep what we had; say why and wait for more motions.
     awaiting_version_ = -1;
@@ -208,8 +208,8 @@ StageStatus HandEyeNode::Status() const {
                 {"pairs", double(ScalelessPairs().size())},
                 {"version", version_},
                 {"iteration", iteration_},
-                {"retries", retries_},
-                {"busy_s", busy_s_}};
+                {"retries", retries_}};
+  work_.AddTo(&s.counters);  // items: solves
   return s;
 }
 

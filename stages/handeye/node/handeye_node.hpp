@@ -15,6 +15,7 @@
 #include "handeye/handeye_solver.hpp"
 #include "runtime/config_reader.hpp"
 #include "runtime/stage_main.hpp"
+#include "runtime/work_stats.hpp"
 
 namespace fusecal {
 
@@ -69,7 +70,7 @@ class HandEyeNode : public StageNode {
   bool converged_ = false;
   std::vector<Subscription> subscriptions_;
   int retries_ = 0;
-  double busy_s_ = 0;
+  WorkStats work_;
   std::string state_ = "waiting for motions";
 };
 

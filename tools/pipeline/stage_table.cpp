@@ -1,0 +1,46 @@
+#include "pipeline/stage_table.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+namespace fusecal {
+
+namespace {
+
+double Counter(const std::map<std::string, double>& counters, const std::string& name) {
+  const auto it = counters.find(name);
+  return it == counters.end() ? 0.0 : it->second;
+}
+
+}  // namespace
+
+std::string WriteStageTable(const std::string& dir, const StageCounters& stages, double span_s) {
+  const std::string path = dir + "/stages.csv";
+  std::ofstream file(path);
+  file << "stage,items,mean_ms,p95_ms,busy_s,skipped,realtime_factor\n";
+  char line[256];
+  for (const auto& [stage, c] : stages) {
+    const double busy = Counter(c, "busy_s");
+    std::snprintf(line, sizeof(line), "%s,%.0f,%.2f,%.2f,%.3f,%.0f,%.4f\n", stage.c_str(), Counter(c, "items"),
+                  Counter(c, "item_ms_mean"), Counter(c, "item_ms_p95"), busy, Counter(c, "skipped"),
+                  span_s > 0 ? busy / span_s : 0.0);
+    file << line;
+  }
+  return path;
+}
+
+std::string StageTableText(const StageCounters& stages, double span_s) {
+  std::ostringstream out;
+  char line[256];
+  for (const auto& [stage, c] : stages) {
+    const double busy = Counter(c, "busy_s");
+    std::snprintf(line, sizeof(line), "  %-16s %5.0f items, %8.2f ms mean, %8.2f ms p95, %7.2f s busy, %4.0f skipped, "
+                  "realtime factor %.3f\n", stage.c_str(), Counter(c, "items"), Counter(c, "item_ms_mean"),
+                  Counter(c, "item_ms_p95"), busy, Counter(c, "skipped"), span_s > 0 ? busy / span_s : 0.0);
+    out << line;
+  }
+  return out.str();
+}
+
+}  // namespace fusecal
