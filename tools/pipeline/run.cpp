@@ -143,14 +143,17 @@ class PipelineRun {
     }
   }
 
-  // A restarted stage (new pid in its heartbeat) needs the stations; the others ignore stations they
-  // have seen and republish their motions of them, which a restarted hand-eye stage needs.
+  // A restarted stage (new pid in its heartbeat) needs the stations (and the stationarity stage the
+  // camera model); the others ignore stations they have seen and republish their motions of them,
+  // which a restarted hand-eye stage needs.
   void ResupplyRestartedStages() {
     for (const auto& p : supervisor_.processes()) {
       const auto beat = watch_.pids.find(p.name);
       if (p.restarts == 0 || beat == watch_.pids.end() || beat->second != p.pid || resupplied_[p.name] == p.pid)
         continue;
       resupplied_[p.name] = p.pid;
+      const auto& camera_info = session_.camera_info_bytes();  // stationarity needs it for every station
+      if (!camera_info.empty()) bus_->PublishRaw(channels::kCameraInfo, camera_info.data(), camera_info.size());
       for (const auto& [id, station] : session_.stations()) bus_->Publish(channels::kStation, station);
     }
   }

@@ -35,6 +35,8 @@ SessionRecord::SessionRecord(Bus& bus, const std::string& record_path, bool reco
         extrinsic_receive_utimes_.push_back(raw.receive_utime);
       }
       last_news_utime_ = raw.receive_utime;
+    } else if (ch == channels::kCameraInfo) {
+      camera_info_bytes_.assign(raw.data, raw.data + raw.size);
     } else if (ch == channels::kGroundTruth) {
       ground_truth_t g{};
       if (Decode(raw, &g)) ground_truth_ = g;

@@ -38,6 +38,8 @@ class SessionRecord {
   const std::map<std::string, double>& stage_busy_s() const { return stage_busy_s_; }
   // Messages each stage's bus knows it lost (STATUS counter bus_dropped; DDS only).
   const std::map<std::string, double>& stage_bus_dropped() const { return stage_bus_dropped_; }
+  // The latest CAMERA_INFO as it came (empty: none), given again to a restarted stationarity stage.
+  const std::vector<uint8_t>& camera_info_bytes() const { return camera_info_bytes_; }
   // Every counter of each stage's latest STATUS.
   const std::map<std::string, std::map<std::string, double>>& stage_counters() const { return stage_counters_; }
 
@@ -53,6 +55,7 @@ class SessionRecord {
   std::map<int, station_t> stations_;
   std::vector<extrinsic_t> extrinsics_;
   std::vector<int64_t> extrinsic_receive_utimes_;
+  std::vector<uint8_t> camera_info_bytes_;
   std::optional<ground_truth_t> ground_truth_;
   int lidar_motions_ = 0, camera_motions_ = 0, failed_motions_ = 0;
   int64_t last_news_utime_ = 0;
