@@ -28,9 +28,10 @@ void AddCalibrateCommand(CLI::App& app, int* exit_code) {
       });
       if (tty) std::cerr << "\n";
       std::cout << SummaryText(report.outputs, out);
-      std::cout << std::fixed << std::setprecision(2) << "time: " << report.total_seconds << " s total ("
-                << report.total_seconds / std::max(1e-9, report.span_s) << " x the recording's " << report.span_s
-                << " s; outputs " << report.outputs_seconds << " s);";
+      std::cout << std::fixed << std::setprecision(2) << "time: " << report.total_seconds << " s total (";
+      if (report.span_s > 0)
+        std::cout << report.total_seconds / report.span_s << " x the recording's " << report.span_s << " s; ";
+      std::cout << "outputs " << report.outputs_seconds << " s);";
       for (const auto& [stage, seconds] : report.stage_seconds) std::cout << " " << stage << " " << seconds << " s";
       std::cout << "\n" << StageTableText(report.stage_counters, report.span_s);
       *exit_code = report.outputs.final_result.status == "converged" ? 0 : 1;

@@ -52,6 +52,11 @@ int LogInfo(const std::string& path) {
   for (const auto& [name, s] : channels)
     std::cout << "  " << name << "  count=" << s.count << "  type=" << s.type << "  bytes=" << s.bytes
               << "\n";
+  if (events == 0) {
+    std::cerr << "fusecal log: " << path << ": no events (an empty file, or not an LCM event log)\n";
+    ReportProblems(reader);
+    return 1;
+  }
   return ReportProblems(reader);
 }
 

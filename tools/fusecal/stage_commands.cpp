@@ -69,6 +69,7 @@ void AddStageCommands(CLI::App& app, int* exit_code) {
                        {"rmse_m", r.inlier_rms_m}, {"seconds", r.seconds}};
       if (!r.converged) line["reason"] = r.failure_reason;
       std::cout << line.dump() << "\n";
+      if (!r.converged) std::cerr << "fusecal register: " << scan_a << " -> " << scan_b << ": " << r.failure_reason << "\n";
       return r.converged ? 0 : 1;
     });
   });

@@ -215,7 +215,7 @@ class PipelineRun {
         if (session_.stations().size() > stations_before) WaitForStation(session_.stations().rbegin()->first);
       }
     }
-    for (const auto& problem : reader.problems()) event_("log: " + problem);
+    for (const auto& problem : reader.problems()) event_("log " + options_.log_path + ": " + problem);
     report_.replay_seconds = Seconds(replay_start_);
     const auto after_log = Clock::now();
     if (options_.live) WaitForEveryStation();
