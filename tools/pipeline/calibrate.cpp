@@ -21,6 +21,64 @@ void RecordStageWork(const std::vector<NamedNode>& nodes, CalibrateReport* repor
   }
 }
 
+// The five nodes on one memq bus: every message is handled and every node's queued work done before
+// the next event of the log (deterministic).
+class InProcessPipeline {
+ public:
+  InProcessPipeline(Bus& bus, std::vector<NamedNode>& nodes, const SessionRecord& session,
+                    const std::function<void(const std::string&)>& progress)
+      : bus_(bus), nodes_(nodes), session_(session), progress_(progress) {}
+
+  // Until nothing moves: every message handled, every node's queued work done.
+  void Drain() {
+    for (;;) {
+      while (HandleOnce() > 0) {
+      }
+      if (TickAll()) continue;
+      if (HandleOnce() == 0) break;
+    }
+    if (progress_ && (session_.stations().size() != stations_seen_ || session_.extrinsics().size() != versions_seen_)) {
+      stations_seen_ = session_.stations().size();
+      versions_seen_ = session_.extrinsics().size();
+      progress_(ProgressText(session_));
+    }
+  }
+
+ private:
+  // A stage that fails on one message (a corrupt image, a bad scan) says why and goes on, as its process
+  // would: nothing computed so far is lost.
+  void ReportError(const std::exception& e) {
+    if (progress_) progress_(std::string("stage error (continuing): ") + e.what());
+  }
+  int HandleOnce() {
+    try {
+      return bus_.Handle(0);
+    } catch (const std::exception& e) {
+      ReportError(e);
+      return 1;
+    }
+  }
+  // Each node's Tick does its queued work (the detector takes its frames); true when one failed.
+  bool TickAll() {
+    bool failed = false;
+    for (auto& n : nodes_) {
+      try {
+        n.node->Tick(bus_, NowUtime());
+      } catch (const std::exception& e) {
+        ReportError(e);
+        failed = true;
+      }
+    }
+    return failed;
+  }
+
+  Bus& bus_;
+  std::vector<NamedNode>& nodes_;
+  const SessionRecord& session_;
+  const std::function<void(const std::string&)>& progress_;
+  size_t stations_seen_ = 0, versions_seen_ = 0;
+};
+
 }  // namespace
 
 CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out_dir, const PipelineConfig& config,
@@ -36,48 +94,8 @@ CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out
   SessionRecord session(*bus, out_dir + "/session.lcmlog", false);
   std::vector<NamedNode> nodes = MakeStageNodes(in_process, use_detector);
   for (auto& n : nodes) n.node->Start(*bus);
+  InProcessPipeline pipeline(*bus, nodes, session, progress);
 
-  size_t stations_seen = 0, versions_seen = 0;
-  // A stage that fails on one message (a corrupt image, a bad scan) says why and goes on, as its process
-  // would: nothing computed so far is lost.
-  auto report_error = [&](const std::exception& e) {
-    if (progress) progress(std::string("stage error (continuing): ") + e.what());
-  };
-  auto handle_once = [&] {
-    try {
-      return bus->Handle(0);
-    } catch (const std::exception& e) {
-      report_error(e);
-      return 1;
-    }
-  };
-  // Each node's Tick does its queued work (the detector takes its frames); true when one failed.
-  auto tick_all = [&] {
-    bool failed = false;
-    for (auto& n : nodes) {
-      try {
-        n.node->Tick(*bus, NowUtime());
-      } catch (const std::exception& e) {
-        report_error(e);
-        failed = true;
-      }
-    }
-    return failed;
-  };
-  // Until nothing moves: every message handled, every node's queued work done.
-  auto drain = [&] {
-    for (;;) {
-      while (handle_once() > 0) {
-      }
-      if (tick_all()) continue;
-      if (handle_once() == 0) break;
-    }
-    if (progress && (session.stations().size() != stations_seen || session.extrinsics().size() != versions_seen)) {
-      stations_seen = session.stations().size();
-      versions_seen = session.extrinsics().size();
-      progress(ProgressText(session));
-    }
-  };
   LogReader reader(log_path);
   int64_t first_utime = -1, last_utime = -1;
   while (auto event = reader.Next()) {
@@ -85,11 +103,14 @@ CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out
     if (first_utime < 0) first_utime = event->utime;
     last_utime = std::max(last_utime, event->utime);
     bus->PublishRaw(event->channel, event->data.data(), event->data.size());
-    drain();
+    pipeline.Drain();
   }
   for (auto& n : nodes) n.node->Flush(*bus);
-  drain();
-  for (const auto& problem : reader.problems()) progress ? progress("log: " + problem) : void();
+  pipeline.Drain();
+  for (const auto& problem : reader.problems()) progress ? progress("log " + log_path + ": " + problem) : void();
+  if (first_utime < 0 && progress)
+    progress("log " + log_path + ": no event that feeds the pipeline (an empty log, not an LCM event log, or " +
+             (use_detector ? "no CAMERA_IMAGE / LIDAR_SCAN)" : "no STATION)"));
 
   CalibrateReport report;
   RecordStageWork(nodes, &report);

@@ -12,6 +12,9 @@ namespace fusecal {
 
 FusionOdometryNodeSettings ReadFusionOdometryNodeSettings(ConfigReader r) {
   FusionOdometryNodeSettings s;
+  r.Get("input_wait_s", &s.input_wait_s, NonNegative<double>());
+  r.Get("reuse_rotation_deg", &s.reuse_rotation_deg, NonNegative<double>());
+  r.Get("reuse_translation_m", &s.reuse_translation_m, NonNegative<double>());
   r.Finish();
   const std::string error = s.odometry.Validate();
   if (!error.empty()) r.FailSection(error);
@@ -73,24 +76,49 @@ motion_t FusionOdometryNode::ComputeMotion(int i, int j, const Isometry3& X, int
 // The motions of one round are independent (each reads the stations, the LiDAR motions and its own warm
 // start): they are computed in parallel on both cores, then recorded in the order of the request, so the
 // answer is the same as computed one after the other.
+// A pair whose last motion was computed with an extrinsic within reuse_rotation_deg and
+// reuse_translation_m of X keeps it: a new round starts from the estimate the previous round converged
+// to, which differs from the one its motions were computed with by less than the hand-eye tolerance.
+bool FusionOdometryNode::Reusable(const PairKey& pair, const Isometry3& X) const {
+  const auto last = last_computed_.find(pair);
+  if (last == last_computed_.end()) return false;
+  return RotationErrorDeg(X.linear(), last->second.X.linear()) < settings_.reuse_rotation_deg &&
+         (X.translation() - last->second.X.translation()).norm() < settings_.reuse_translation_m;
+}
+
 std::vector<motion_t> FusionOdometryNode::ComputeMotions(const extrinsic_t& extrinsic) {
   const Isometry3 X = FromRowMajor(extrinsic.T_camera_lidar);
-  const int n = extrinsic.num_used;
-  std::vector<motion_t> motions(n);
+  std::vector<motion_t> motions(extrinsic.num_used);
+  std::vector<int> to_compute;  // indices into the request
+  for (int k = 0; k < extrinsic.num_used; ++k) {
+    const PairKey pair{extrinsic.used_station_i[k], extrinsic.used_station_j[k]};
+    if (Reusable(pair, X)) {
+      motions[k] = last_computed_.at(pair).motion;
+      motions[k].extrinsic_version = extrinsic.version;
+      ++reused_;
+    } else {
+      to_compute.push_back(k);
+    }
+  }
+  const int n = static_cast<int>(to_compute.size());
   std::vector<fusion_odometry::FusionOdometryResult> results(n);
   // OpenCV's own threads inside each motion would compete with these (measured: a round took longer in
   // parallel than one after the other); one motion per core instead.
   const int opencv_threads = cv::getNumThreads();
   if (n > 1) cv::setNumThreads(1);
 #pragma omp parallel for schedule(dynamic, 1) if (n > 1)
-  for (int k = 0; k < n; ++k)
+  for (int c = 0; c < n; ++c) {
+    const int k = to_compute[c];
     motions[k] = ComputeMotion(extrinsic.used_station_i[k], extrinsic.used_station_j[k], X, extrinsic.version,
-                               &results[k]);
+                               &results[c]);
+  }
   if (n > 1) cv::setNumThreads(opencv_threads);
-  for (int k = 0; k < n; ++k) {
-    work_.Add(results[k].seconds);
-    if (results[k].converged) {
-      last_camera_motions_[{motions[k].station_i, motions[k].station_j}] = results[k].T_ci_cj;
+  for (int c = 0; c < n; ++c) {
+    const motion_t& m = motions[to_compute[c]];
+    work_.Add(results[c].seconds);
+    last_computed_[{m.station_i, m.station_j}] = {X, m};
+    if (results[c].converged) {
+      last_camera_motions_[{m.station_i, m.station_j}] = results[c].T_ci_cj;
       ++motions_;
     } else {
       ++failures_;
@@ -151,7 +179,7 @@ StageStatus FusionOdometryNode::Status() const {
   StageStatus s;
   s.counters = {{"stations", double(stations_.size())}, {"motions", motions_}, {"failures", failures_},
                 {"repeats", repeats_},                  {"version", newest_answered_},
-                {"answered_without_inputs", answered_without_inputs_}};
+                {"answered_without_inputs", answered_without_inputs_}, {"reused", double(reused_)}};
   work_.AddTo(&s.counters);  // items: motions computed (one per pair and iteration)
   return s;
 }

@@ -21,6 +21,10 @@ namespace fusecal {
 struct FusionOdometryNodeSettings {
   fusion_odometry::FusionOdometrySettings odometry;
   double input_wait_s = 2.0;  // how long a request waits for the stations and LiDAR motions it needs
+  // A pair keeps its last motion when the extrinsic moved less than this since (0: always recompute);
+  // the hand-eye tolerances by default.
+  double reuse_rotation_deg = 1e-3;
+  double reuse_translation_m = 1e-4;
 };
 
 FusionOdometryNodeSettings ReadFusionOdometryNodeSettings(ConfigReader section);
@@ -45,6 +49,7 @@ class FusionOdometryNode : public StageNode {
                          fusion_odometry::FusionOdometryResult* result) const;
   std::vector<motion_t> ComputeMotions(const extrinsic_t& extrinsic);
   bool HasInputsFor(const extrinsic_t& extrinsic) const;
+  bool Reusable(const PairKey& pair, const Isometry3& X) const;
   void AnswerPendingIfReady(Bus& bus, bool waited_enough);
 
   FusionOdometryNodeSettings settings_;
@@ -56,6 +61,12 @@ class FusionOdometryNode : public StageNode {
   std::optional<extrinsic_t> pending_;  // the newest request, until its inputs are here
   int64_t pending_since_utime_ = 0;
   int answered_without_inputs_ = 0;
+  struct Computed {
+    Isometry3 X;  // the extrinsic it was computed with
+    motion_t motion;
+  };
+  std::map<PairKey, Computed> last_computed_;
+  long reused_ = 0;
   std::vector<Subscription> subscriptions_;
   int motions_ = 0, failures_ = 0, repeats_ = 0;
   WorkStats work_;
