@@ -6,6 +6,7 @@
 #include "camera_frontend/node/camera_frontend_node.hpp"
 #include "fusion_odometry/node/fusion_odometry_node.hpp"
 #include "handeye/node/handeye_node.hpp"
+#include "ros2_tf/ros2_tf_settings.hpp"
 #include "lidar_icp/node/lidar_icp_node.hpp"
 #include "stationarity/node/stationarity_node.hpp"
 
@@ -23,6 +24,7 @@ struct PipelineConfig {
   CameraFrontendNodeSettings camera_frontend;
   FusionOdometryNodeSettings fusion_odometry;
   HandEyeNodeSettings handeye;
+  Ros2TfSettings ros2_tf;
   double idle_timeout_s = 60;
 };
 

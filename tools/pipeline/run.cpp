@@ -103,6 +103,7 @@ class PipelineRun {
   void StartStages() {
     names_ = {"lidar_icp", "camera_frontend", "fusion_odometry", "handeye"};
     if (use_detector_) names_.insert(names_.begin(), "stationarity");
+    if (config_.ros2_tf.enabled) names_.push_back("ros2_tf");  // the extrinsic on ROS 2's rt/tf_static
     for (const auto& name : names_) {
       std::string exe = name;
       std::replace(exe.begin(), exe.end(), '_', '-');

@@ -1,0 +1,107 @@
+// fusecal-ros2-tf as a ROS 2 system would see it: a Cyclone DDS reader of tf2_msgs::msg::dds_::TFMessage_
+// on rt/tf_static (reliable, transient local, joining late) receives the extrinsic published on the
+// fusecal bus, with the config's frame ids.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+#include <chrono>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "dds/dds.h"
+#include "formats/conversions.hpp"
+#include "fusecal/extrinsic_t.hpp"
+#include "ros2_messages.h"
+#include "runtime/bus.hpp"
+
+namespace fusecal {
+namespace {
+
+const std::string kBus = "udpm://239.255.76.67:7686?ttl=0&recv_buf_size=67108864";
+constexpr int kDomain = 38;
+
+pid_t Start(const std::string& config, const std::string& log) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string command = std::string(ROS2_TF_BIN) + " --config " + config + " --bus '" + kBus + "' > " + log + " 2>&1";
+    execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
+
+TEST(Ros2Tf, AStaticTransformReachesARos2ReaderWithTheConfiguredFrames) {
+  const std::string dir = testing::TempDir() + "fusecal_ros2_tf_" + std::to_string(getpid());
+  const std::string config = dir + ".yaml", log = dir + ".log";
+  std::ofstream(config) << "ros2_tf:\n  domain: " << kDomain << "\n  parent_frame: cam_front\n  child_frame: velo_top\n";
+  const pid_t pid = Start(config, log);
+  ASSERT_GT(pid, 0);
+
+  // The extrinsic: a rotation of 30 deg about (1, 2, 3) and t = (0.1, -0.2, 0.3).
+  Isometry3 X = Isometry3::Identity();
+  X.linear() = Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  X.translation() = Eigen::Vector3d(0.1, -0.2, 0.3);
+  extrinsic_t e{};
+  e.utime = 1700000001500000;
+  e.version = 7;
+  ToRowMajor(X, e.T_camera_lidar);
+  e.status = extrinsic_t::STATUS_CONVERGED;
+  e.converged = true;
+  auto bus = MakeBus(kBus);
+  // Published until the stage is surely up (it ignores repeats of a version).
+  for (int k = 0; k < 30; ++k) {
+    bus->Publish("EXTRINSIC", e);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+
+  // A late reader: transient local hands it the last sample.
+  const dds_entity_t participant = dds_create_participant(kDomain, nullptr, nullptr);
+  ASSERT_GT(participant, 0);
+  const dds_entity_t topic =
+      dds_create_topic(participant, &tf2_msgs_msg_dds__TFMessage__desc, "rt/tf_static", nullptr, nullptr);
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
+  const dds_entity_t reader = dds_create_reader(participant, topic, qos, nullptr);
+  dds_delete_qos(qos);
+  ASSERT_GT(reader, 0);
+  void* samples[1] = {nullptr};
+  dds_sample_info_t info[1];
+  int taken = 0;
+  for (int k = 0; k < 100 && taken <= 0; ++k) {
+    taken = dds_take(reader, samples, info, 1, 1);
+    if (taken <= 0 || !info[0].valid_data) {
+      if (taken > 0) dds_return_loan(reader, samples, taken);
+      taken = 0;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  }
+  kill(pid, SIGTERM);
+  waitpid(pid, nullptr, 0);
+  std::ifstream in(log);
+  const std::string output((std::istreambuf_iterator<char>(in)), {});
+  ASSERT_EQ(taken, 1) << "no TFMessage on rt/tf_static in domain " << kDomain << "\n" << output;
+  const auto* message = static_cast<const tf2_msgs_msg_dds__TFMessage_*>(samples[0]);
+  ASSERT_EQ(message->transforms._length, 1u);
+  const auto& t = message->transforms._buffer[0];
+  EXPECT_STREQ(t.header.frame_id, "cam_front");
+  EXPECT_STREQ(t.child_frame_id, "velo_top");
+  EXPECT_EQ(t.header.stamp.sec, 1700000001);
+  EXPECT_EQ(t.header.stamp.nanosec, 500000000u);
+  EXPECT_NEAR(t.transform.translation.x, 0.1, 1e-12);
+  EXPECT_NEAR(t.transform.translation.y, -0.2, 1e-12);
+  EXPECT_NEAR(t.transform.translation.z, 0.3, 1e-12);
+  const Eigen::Quaterniond q(t.transform.rotation.w, t.transform.rotation.x, t.transform.rotation.y,
+                             t.transform.rotation.z);
+  EXPECT_LT(RotationErrorDeg(q.toRotationMatrix(), X.linear()), 1e-9);
+  dds_return_loan(reader, samples, taken);
+  dds_delete(participant);
+}
+
+}  // namespace
+}  // namespace fusecal

@@ -1,0 +1,19 @@
+// Settings of fusecal-ros2-tf (section `ros2_tf` of the pipeline config).
+#pragma once
+
+#include <string>
+
+#include "runtime/config_reader.hpp"
+
+namespace fusecal {
+
+struct Ros2TfSettings {
+  bool enabled = false;  // `fusecal run` starts fusecal-ros2-tf with the stages
+  int domain = 0;                     // the ROS 2 domain (ROS_DOMAIN_ID)
+  std::string parent_frame = "camera";  // header.frame_id: T_camera_lidar maps the child into it
+  std::string child_frame = "lidar";    // child_frame_id
+};
+
+Ros2TfSettings ReadRos2TfSettings(ConfigReader section);
+
+}  // namespace fusecal
