@@ -34,6 +34,14 @@ using RawHandler = std::function<void(const RawMessage&)>;
 
 class Bus;
 
+// Decodes the LCM bytes of a message of type M that came on `channel`; throws BusError naming the type
+// and the channel when they do not hold one (wrong type on the channel, truncated).
+template <typename M>
+void DecodeMessage(const uint8_t* data, size_t size, const std::string& channel, M* message) {
+  if (message->decode(data, 0, static_cast<int>(size)) < 0)
+    throw BusError("cannot decode a " + std::string(M::getTypeName()) + " on channel " + channel);
+}
+
 // Handle returned by Subscribe; Unsubscribe() stops delivery. Safe to call twice, or after the bus
 // is gone.
 class Subscription {
@@ -86,8 +94,7 @@ class Bus {
                          std::function<void(const M& message, const RawMessage& raw)> handler) {
     return SubscribeRaw(channel, [handler = std::move(handler)](const RawMessage& raw) {
       M message;
-      if (message.decode(raw.data, 0, static_cast<int>(raw.size)) < 0)
-        throw BusError("cannot decode a " + std::string(M::getTypeName()) + " on channel " + raw.channel);
+      DecodeMessage(raw.data, raw.size, raw.channel, &message);
       handler(message, raw);
     });
   }

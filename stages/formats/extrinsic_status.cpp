@@ -1,5 +1,6 @@
 #include "formats/extrinsic_status.hpp"
 
+#include <algorithm>
 #include <array>
 #include <stdexcept>
 #include <utility>
@@ -46,6 +47,15 @@ const char* ObservabilityName(int8_t observability) { return NameOf(kObservabili
 int8_t ExtrinsicStatusFromName(const std::string& name) { return ValueOf(kStatusNames, name, "status"); }
 int8_t ObservabilityFromName(const std::string& name) {
   return ValueOf(kObservabilityNames, name, "observability");
+}
+
+bool UsesMotionTo(const extrinsic_t& e, int station_j) {
+  return std::find(e.used_station_j.begin(), e.used_station_j.end(), station_j) != e.used_station_j.end();
+}
+
+bool TookMotionTo(const extrinsic_t& e, int station_j) {
+  return UsesMotionTo(e, station_j) ||
+         std::find(e.rejected_station_j.begin(), e.rejected_station_j.end(), station_j) != e.rejected_station_j.end();
 }
 
 }  // namespace fusecal

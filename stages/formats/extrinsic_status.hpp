@@ -24,4 +24,9 @@ inline bool RoundRunning(const extrinsic_t& e) {
   return e.status == extrinsic_t::STATUS_REFINING || e.status == extrinsic_t::STATUS_INITIAL;
 }
 
+// Whether version `e` used a motion ending at station j; and whether it used or rejected one (the
+// pipeline has dealt with that station's motion).
+bool UsesMotionTo(const extrinsic_t& e, int station_j);
+bool TookMotionTo(const extrinsic_t& e, int station_j);
+
 }  // namespace fusecal

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <fstream>
 
+#include "formats/extrinsic_status.hpp"
+
 namespace fusecal {
 
 namespace {
@@ -18,17 +20,6 @@ int64_t StationEnd(const SessionRecord& session, const station_t& station) {
   return station.still_to_utime;
 }
 
-bool UsesMotionTo(const extrinsic_t& e, int station) {
-  for (int k = 0; k < e.num_used; ++k)
-    if (e.used_station_j[k] == station) return true;
-  return false;
-}
-
-bool MentionsMotionTo(const extrinsic_t& e, int station) {
-  for (int k = 0; k < e.num_rejected; ++k)
-    if (e.rejected_station_j[k] == station) return true;
-  return UsesMotionTo(e, station);
-}
 
 }  // namespace
 
@@ -45,7 +36,7 @@ std::vector<StationLatency> StationLatencies(const SessionRecord& session, int64
     l.end_s = (end - first_log_utime) * 1e-6;
     const int64_t end_wall = wall_utime_of_log(end);
     for (size_t k = 0; k < versions.size(); ++k) {
-      if (l.version < 0 && MentionsMotionTo(versions[k], id)) {
+      if (l.version < 0 && TookMotionTo(versions[k], id)) {
         l.version = versions[k].version;
         l.latency_s = (received[k] - end_wall) * 1e-6;
       }

@@ -73,8 +73,7 @@ void StationarityNode::Tick(Bus& bus, int64_t) {
 // The motion is measured on a quick reduced grey decode; the full image is decoded only for a station.
 void StationarityNode::TakeImage(Bus& bus, const std::vector<uint8_t>& bytes) {
   auto msg = std::make_shared<image_t>();
-  if (msg->decode(bytes.data(), 0, static_cast<int>(bytes.size())) < 0)
-    throw BusError("cannot decode a fusecal.image_t on channel " + std::string(channels::kCameraImage));
+  DecodeMessage(bytes.data(), bytes.size(), channels::kCameraImage, msg.get());
   const cv::Mat motion_image = ImageToMatReduced(*msg, detector_.settings().image.working_width_px);
   StationarityDetector::StationImage station_image;
   if (msg->encoding == "jpeg")
@@ -86,8 +85,7 @@ void StationarityNode::TakeImage(Bus& bus, const std::vector<uint8_t>& bytes) {
 
 void StationarityNode::TakeScan(Bus& bus, const std::vector<uint8_t>& bytes) {
   point_cloud_t msg;
-  if (msg.decode(bytes.data(), 0, static_cast<int>(bytes.size())) < 0)
-    throw BusError("cannot decode a fusecal.point_cloud_t on channel " + std::string(channels::kLidarScan));
+  DecodeMessage(bytes.data(), bytes.size(), channels::kLidarScan, &msg);
   for (const auto& s : detector_.AddScan(msg.utime, CloudFromMsg(msg))) Emit(bus, s);
 }
 
