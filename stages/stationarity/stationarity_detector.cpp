@@ -134,8 +134,7 @@ void StationarityDetector::JudgeImageMotion(int64_t utime, const StationImage& i
   image_drift_px_ = drift.valid ? drift.median_px : NAN;
   image_tracks_ = flow.tracks;
   if (!flow.valid || (flow_still && !drift.valid)) ++counters_.images_untracked;
-  const bool still = flow.valid && drift.valid && flow.median_px <= is.still_flow_px &&
-                     drift.median_px <= is.max_drift_px;
+  const bool still = flow_still && drift.valid && drift.median_px <= is.max_drift_px;
   if (still) {
     if (!camera_.still) {
       camera_.still = true;

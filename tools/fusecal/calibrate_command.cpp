@@ -32,7 +32,7 @@ void AddCalibrateCommand(CLI::App& app, int* exit_code) {
       if (report.span_s > 0)
         std::cout << report.total_seconds / report.span_s << " x the recording's " << report.span_s << " s; ";
       std::cout << "outputs " << report.outputs_seconds << " s);";
-      for (const auto& [stage, seconds] : report.stage_seconds) std::cout << " " << stage << " " << seconds << " s";
+      std::cout << StageBusyText(report.stage_counters);
       std::cout << "\n" << StageTableText(report.stage_counters, report.span_s);
       *exit_code = report.outputs.final_result.status == "converged" ? 0 : 1;
     } catch (const std::exception& e) {

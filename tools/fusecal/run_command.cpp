@@ -58,7 +58,7 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
                 << " s: startup " << report.startup_seconds << " s, replay " << report.replay_seconds
                 << " s, after the log " << report.after_log_seconds << " s, stop and outputs "
                 << report.outputs_seconds << " s);";
-      for (const auto& [stage, seconds] : report.stage_seconds) std::cout << " " << stage << " " << seconds << " s";
+      std::cout << StageBusyText(report.stage_counters);
       std::cout << "; stage restarts: " << report.restarts;
       if (report.roudi_restarts > 0) std::cout << "; RouDi restarts: " << report.roudi_restarts;
       if (report.used_dds) std::cout << "; messages lost by the bus: " << report.bus_dropped;

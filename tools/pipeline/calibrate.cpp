@@ -11,14 +11,9 @@ namespace fusecal {
 
 namespace {
 
-// Each node's work from its last status: busy seconds and every counter (stages.csv).
+// Each node's work from its last status: every counter (stages.csv).
 void RecordStageWork(const std::vector<NamedNode>& nodes, CalibrateReport* report) {
-  for (const auto& n : nodes) {
-    const StageStatus status = n.node->Status();
-    const auto busy = status.counters.find("busy_s");
-    report->stage_seconds[n.name] = busy == status.counters.end() ? 0.0 : busy->second;
-    report->stage_counters[n.name] = status.counters;
-  }
+  for (const auto& n : nodes) report->stage_counters[n.name] = n.node->Status().counters;
 }
 
 // The five nodes on one memq bus: every message is handled and every node's queued work done before

@@ -13,8 +13,7 @@ namespace fusecal {
 
 struct CalibrateReport {
   CalibrationOutputs outputs;
-  std::map<std::string, double> stage_seconds;  // time spent in each stage's handlers
-  StageCounters stage_counters;                 // each stage's last STATUS counters (stages.csv)
+  StageCounters stage_counters;  // each stage's last STATUS counters (busy_s, ...; stages.csv)
   double span_s = 0;                            // recording span: first to last event fed
   double outputs_seconds = 0;                   // writing extrinsic.yaml, pictures, cloud
   double total_seconds = 0;

@@ -47,17 +47,6 @@ struct PipelineWatch {
   }
 };
 
-
-// The pipeline is dealt with station k when both motions ending at k are out and, if they are good,
-// a round that took them in (or rejected them) has ended.
-bool MentionsStation(const extrinsic_t& e, int station) {
-  for (int k = 0; k < e.num_used; ++k)
-    if (e.used_station_j[k] == station) return true;
-  for (int k = 0; k < e.num_rejected; ++k)
-    if (e.rejected_station_j[k] == station) return true;
-  return false;
-}
-
 // One `fusecal run`: the stage processes, the coordinator's bus, the session record, the player.
 class PipelineRun {
  public:
@@ -169,6 +158,8 @@ class PipelineRun {
     return false;
   }
 
+  // The pipeline has dealt with station k when both motions ending at k are out and, if they are good,
+  // a round that took them in (or rejected them) has ended.
   std::function<bool()> SettledAfter(int station_id, bool first) {
     return [this, station_id, first] {
       if (first) return true;
@@ -176,7 +167,7 @@ class PipelineRun {
         return false;
       if (watch_.failed_for.count(station_id)) return true;  // no round starts for a failed motion
       const extrinsic_t* e = session_.Final();
-      return e && !RoundRunning(*e) && MentionsStation(*e, station_id);
+      return e && !RoundRunning(*e) && TookMotionTo(*e, station_id);
     };
   }
 
@@ -253,10 +244,9 @@ class PipelineRun {
     // The stages' last STATUS ("stopped", with their final counters), for at most half a second.
     for (const auto end = Clock::now() + std::chrono::milliseconds(500); Clock::now() < end && !AllStopped();)
       bus_->Handle(20);
-    for (const auto& [name, seconds] : session_.stage_busy_s()) report_.stage_seconds[name] = seconds;
-    report_.bus_dropped = static_cast<double>(bus_->dropped_messages());
-    for (const auto& [name, dropped] : session_.stage_bus_dropped()) report_.bus_dropped += dropped;
     report_.stage_counters = session_.stage_counters();
+    report_.bus_dropped = static_cast<double>(bus_->dropped_messages());
+    for (const auto& [name, counters] : report_.stage_counters) report_.bus_dropped += StageCounter(counters, "bus_dropped");
     report_.span_s = first_utime_ < 0 ? 0.0 : (last_utime_ - first_utime_) * 1e-6;
     session_.Close();
     report_.outputs = WriteCalibrationOutputs(session_, options_.out_dir);

@@ -39,8 +39,7 @@ struct RunReport {
   // Where the time went: starting the stages, playing the log, the stages' work after its end,
   // stopping them and writing the outputs.
   double startup_seconds = 0, replay_seconds = 0, after_log_seconds = 0, outputs_seconds = 0;
-  std::map<std::string, double> stage_seconds;
-  StageCounters stage_counters;  // each stage's last STATUS counters (stages.csv)
+  StageCounters stage_counters;  // each stage's last STATUS counters (busy_s, bus_dropped, ...; stages.csv)
   double span_s = 0;             // recording span played
   std::vector<StationLatency> latencies;  // live replay only (latency.csv)
 };

@@ -52,11 +52,7 @@ SessionRecord::SessionRecord(Bus& bus, const std::string& record_path, bool reco
       if (!Decode(raw, &s)) return;
       stage_states_[s.name] = {s.state, s.last_error};
       auto& counters = stage_counters_[s.name];
-      for (int i = 0; i < s.num_counters; ++i) {
-        counters[s.counter_names[i]] = s.counter_values[i];
-        if (s.counter_names[i] == "busy_s") stage_busy_s_[s.name] = s.counter_values[i];
-        if (s.counter_names[i] == "bus_dropped") stage_bus_dropped_[s.name] = s.counter_values[i];
-      }
+      for (int i = 0; i < s.num_counters; ++i) counters[s.counter_names[i]] = s.counter_values[i];
     }
   }));
 }

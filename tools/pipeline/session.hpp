@@ -35,12 +35,9 @@ class SessionRecord {
   int64_t last_news_utime() const { return last_news_utime_; }
   // Latest STATUS per stage name: state and last error.
   const std::map<std::string, std::pair<std::string, std::string>>& stage_states() const { return stage_states_; }
-  const std::map<std::string, double>& stage_busy_s() const { return stage_busy_s_; }
-  // Messages each stage's bus knows it lost (STATUS counter bus_dropped; DDS only).
-  const std::map<std::string, double>& stage_bus_dropped() const { return stage_bus_dropped_; }
   // The latest CAMERA_INFO as it came (empty: none), given again to a restarted stationarity stage.
   const std::vector<uint8_t>& camera_info_bytes() const { return camera_info_bytes_; }
-  // Every counter of each stage's latest STATUS.
+  // Every counter of each stage's latest STATUS (busy_s; bus_dropped: messages its bus knows it lost, DDS).
   const std::map<std::string, std::map<std::string, double>>& stage_counters() const { return stage_counters_; }
 
   // The latest EXTRINSIC, and the latest scaleless ("initial") one.
@@ -60,8 +57,6 @@ class SessionRecord {
   int lidar_motions_ = 0, camera_motions_ = 0, failed_motions_ = 0;
   int64_t last_news_utime_ = 0;
   std::map<std::string, std::pair<std::string, std::string>> stage_states_;
-  std::map<std::string, double> stage_busy_s_;
-  std::map<std::string, double> stage_bus_dropped_;
   std::map<std::string, std::map<std::string, double>> stage_counters_;
 };
 

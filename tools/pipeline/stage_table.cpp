@@ -2,18 +2,22 @@
 
 #include <cstdio>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 
 namespace fusecal {
 
-namespace {
-
-double Counter(const std::map<std::string, double>& counters, const std::string& name) {
+double StageCounter(const std::map<std::string, double>& counters, const std::string& name) {
   const auto it = counters.find(name);
   return it == counters.end() ? 0.0 : it->second;
 }
 
-}  // namespace
+std::string StageBusyText(const StageCounters& stages) {
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(2);
+  for (const auto& [stage, c] : stages) out << " " << stage << " " << StageCounter(c, "busy_s") << " s";
+  return out.str();
+}
 
 std::string WriteStageTable(const std::string& dir, const StageCounters& stages, double span_s) {
   const std::string path = dir + "/stages.csv";
@@ -21,9 +25,9 @@ std::string WriteStageTable(const std::string& dir, const StageCounters& stages,
   file << "stage,items,mean_ms,p95_ms,busy_s,skipped,realtime_factor\n";
   char line[256];
   for (const auto& [stage, c] : stages) {
-    const double busy = Counter(c, "busy_s");
-    std::snprintf(line, sizeof(line), "%s,%.0f,%.2f,%.2f,%.3f,%.0f,%.4f\n", stage.c_str(), Counter(c, "items"),
-                  Counter(c, "item_ms_mean"), Counter(c, "item_ms_p95"), busy, Counter(c, "skipped"),
+    const double busy = StageCounter(c, "busy_s");
+    std::snprintf(line, sizeof(line), "%s,%.0f,%.2f,%.2f,%.3f,%.0f,%.4f\n", stage.c_str(), StageCounter(c, "items"),
+                  StageCounter(c, "item_ms_mean"), StageCounter(c, "item_ms_p95"), busy, StageCounter(c, "skipped"),
                   span_s > 0 ? busy / span_s : 0.0);
     file << line;
   }
@@ -34,10 +38,10 @@ std::string StageTableText(const StageCounters& stages, double span_s) {
   std::ostringstream out;
   char line[256];
   for (const auto& [stage, c] : stages) {
-    const double busy = Counter(c, "busy_s");
+    const double busy = StageCounter(c, "busy_s");
     std::snprintf(line, sizeof(line), "  %-16s %5.0f items, %8.2f ms mean, %8.2f ms p95, %7.2f s busy, %4.0f skipped, "
-                  "realtime factor %.3f\n", stage.c_str(), Counter(c, "items"), Counter(c, "item_ms_mean"),
-                  Counter(c, "item_ms_p95"), busy, Counter(c, "skipped"), span_s > 0 ? busy / span_s : 0.0);
+                  "realtime factor %.3f\n", stage.c_str(), StageCounter(c, "items"), StageCounter(c, "item_ms_mean"),
+                  StageCounter(c, "item_ms_p95"), busy, StageCounter(c, "skipped"), span_s > 0 ? busy / span_s : 0.0);
     out << line;
   }
   return out.str();

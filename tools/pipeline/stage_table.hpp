@@ -14,6 +14,12 @@ using StageCounters = std::map<std::string, std::map<std::string, double>>;
 // Writes <dir>/stages.csv and returns its path.
 std::string WriteStageTable(const std::string& dir, const StageCounters& stages, double span_s);
 
+// A counter of one stage's STATUS, 0 when it has none.
+double StageCounter(const std::map<std::string, double>& counters, const std::string& name);
+
+// " <stage> <busy_s> s" for each stage, for the time line of `calibrate` and `run`.
+std::string StageBusyText(const StageCounters& stages);
+
 // One line per stage for the terminal.
 std::string StageTableText(const StageCounters& stages, double span_s);
 

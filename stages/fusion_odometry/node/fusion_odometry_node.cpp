@@ -73,9 +73,6 @@ motion_t FusionOdometryNode::ComputeMotion(int i, int j, const Isometry3& X, int
   return m;
 }
 
-// The motions of one round are independent (each reads the stations, the LiDAR motions and its own warm
-// start): they are computed in parallel on both cores, then recorded in the order of the request, so the
-// answer is the same as computed one after the other.
 // A pair whose last motion was computed with an extrinsic within reuse_rotation_deg and
 // reuse_translation_m of X keeps it: a new round starts from the estimate the previous round converged
 // to, which differs from the one its motions were computed with by less than the hand-eye tolerance.
@@ -86,6 +83,9 @@ bool FusionOdometryNode::Reusable(const PairKey& pair, const Isometry3& X) const
          (X.translation() - last->second.X.translation()).norm() < settings_.reuse_translation_m;
 }
 
+// The motions of one round are independent (each reads the stations, the LiDAR motions and its own warm
+// start): they are computed in parallel on both cores, then recorded in the order of the request, so the
+// answer is the same as computed one after the other.
 std::vector<motion_t> FusionOdometryNode::ComputeMotions(const extrinsic_t& extrinsic) {
   const Isometry3 X = FromRowMajor(extrinsic.T_camera_lidar);
   std::vector<motion_t> motions(extrinsic.num_used);
@@ -156,8 +156,10 @@ bool FusionOdometryNode::HasInputsFor(const extrinsic_t& e) const {
 
 void FusionOdometryNode::AnswerPendingIfReady(Bus& bus, bool waited_enough) {
   if (!pending_ || pending_->version <= newest_answered_) return;
-  if (!waited_enough && !HasInputsFor(*pending_)) return;
-  if (waited_enough) ++answered_without_inputs_;
+  if (!HasInputsFor(*pending_)) {
+    if (!waited_enough) return;
+    ++answered_without_inputs_;
+  }
   const extrinsic_t extrinsic = *pending_;
   pending_.reset();
   motion_set_t answer{};
