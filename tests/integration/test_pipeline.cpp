@@ -175,6 +175,80 @@ TEST_F(Pipeline, StageKilledWithSigkillIsRestartedAndTheAnswerStays) {
   ExpectSameAnswerAsCalibrate(out, output);
 }
 
+// Waits up to `seconds` for a background process; kills it (SIGTERM) when it has not ended. Its exit
+// status, -1 when it had to be killed.
+int WaitOrKill(pid_t pid, double seconds) {
+  int status = 0;
+  for (int i = 0; i < static_cast<int>(seconds * 10); ++i) {
+    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  kill(pid, SIGTERM);
+  waitpid(pid, &status, 0);
+  return -1;
+}
+
+// The stages split between two `fusecal run`s on one bus, as on two hosts (tools/distributed runs this
+// across two network namespaces): A, with the log, runs ICP and the camera front end and plays it; B,
+// without a log, runs fusion odometry and hand-eye and ends when the player is done. `kill_in_b`: a
+// stage of B's killed with SIGKILL once the first motion is out (B gives it the stations again).
+struct SplitRun {
+  int a_exit = -1, b_exit = -1;
+  std::string out_a, out_b, a_output, b_output;
+};
+SplitRun RunSplit(const std::string& log, int port, const std::string& name, const std::string& kill_in_b = "") {
+  const std::string bus = "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=67108864";
+  SplitRun run{-1, -1, Temp(name + "-a"), Temp(name + "-b"), "", ""};
+  const pid_t b = StartInBackground(
+      kFusecal + " run --stages fusion_odometry,handeye --bus '" + bus + "' --out " + run.out_b, run.out_b + ".txt");
+  const pid_t a = StartInBackground(kFusecal + " run --log " + log + " --speed 0 --bus '" + bus +
+                                        "' --stages stationarity,lidar_icp,camera_frontend --out " + run.out_a,
+                                    run.out_a + ".txt");
+  for (int i = 0; i < 400 && !kill_in_b.empty(); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (ReadAll(run.out_a + ".txt").find("motions lidar 1") == std::string::npos) continue;
+    RunCommand("pkill -9 -f '[f]usecal-" + kill_in_b + ".*" + std::to_string(port) + "'");
+    break;
+  }
+  run.a_exit = WaitOrKill(a, 120);
+  run.b_exit = WaitOrKill(b, 30);
+  run.a_output = ReadAll(run.out_a + ".txt");
+  run.b_output = ReadAll(run.out_b + ".txt");
+  return run;
+}
+
+TEST_F(Pipeline, StagesSplitBetweenTwoRunsAgreeWithCalibrate) {
+  const SplitRun run = RunSplit(log_, 7685, "split");
+  ASSERT_EQ(run.a_exit, 0) << run.a_output;
+  EXPECT_NE(run.a_output.find("waiting for fusion_odometry,handeye on other hosts"), std::string::npos) << run.a_output;
+  EXPECT_NE(run.a_output.find("stationarity is not started: the stations come from the log"), std::string::npos)
+      << run.a_output;
+  ASSERT_EQ(run.b_exit, 0) << run.b_output;
+  EXPECT_NE(run.b_output.find("the player on "), std::string::npos) << run.b_output;
+  ExpectSameAnswerAsCalibrate(run.out_b, run.b_output);
+  ExpectSameAnswerAsCalibrate(run.out_a, run.a_output);
+}
+
+// Fusion odometry killed on the host without the log: that host restarts it and gives it the stations
+// it recorded from the bus; the answer stays.
+TEST_F(Pipeline, StageKilledOnTheHostWithoutTheLogIsGivenTheStationsThere) {
+  const SplitRun run = RunSplit(log_, 7687, "split-killed", "fusion-odometry");
+  ASSERT_EQ(run.a_exit, 0) << run.a_output;
+  ASSERT_EQ(run.b_exit, 0) << run.b_output;
+  EXPECT_NE(run.b_output.find("stage fusion_odometry killed by signal 9; restarted"), std::string::npos) << run.b_output;
+  ExpectSameAnswerAsCalibrate(run.out_b, run.b_output);
+}
+
+TEST(PipelineBadInput, AnUnknownStageInStagesIsNamed) {
+  const auto run = RunCommand(kFusecal + " run --stages lidar_icp,fusion --out " + Temp("bad-stages") + " 2>&1");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("--stages: unknown stage 'fusion'"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("fusion_odometry"), std::string::npos) << run.output;  // the known ones
+  const auto twice = RunCommand(kFusecal + " run --stages handeye,handeye --out " + Temp("bad-stages") + " 2>&1");
+  EXPECT_EQ(twice.exit_code, 2) << twice.output;
+  EXPECT_NE(twice.output.find("'handeye' is listed twice"), std::string::npos) << twice.output;
+}
+
 TEST(PipelineBadInput, NoStationsAndOneRotationAxisGiveAVerdictNotACrash) {
   // A log with only the ground truth: no station at all.
   const std::string empty_log = Temp("empty.lcmlog");

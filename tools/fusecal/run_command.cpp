@@ -1,4 +1,4 @@
-// `fusecal run --config configs/pipeline.yaml [--log LOG [--speed X] [--live]] --out DIR`.
+// `fusecal run --config configs/pipeline.yaml [--log LOG [--speed X] [--live]] [--stages A,B] --out DIR`.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -20,6 +20,7 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
   auto* cmd = app.add_subcommand("run", "the stages as separate processes on the bus, supervised");
   static std::string config = DefaultPipelineConfigPath();
   static RunOptions options;
+  static std::string stages;
   cmd->add_option("--config", config, "pipeline config (the stages are given the same file)");
   cmd->add_option("--log", options.log_path, "LCM log to play into the bus (default: live sensors)")
       ->check(CLI::ExistingFile);
@@ -29,8 +30,18 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
                 "play the log at recorded time (x speed) without waiting for the stages, as sensors do; "
                 "writes latency.csv");
   cmd->add_option("--bus", options.bus_url, "bus URL (default: the config's)");
+  cmd->add_option("--stages", stages,
+                  "start only these stages, e.g. fusion_odometry,handeye; the others run on other hosts on the "
+                  "same bus (without --log: ends when the host playing the log is done)");
   cmd->add_option("--out", options.out_dir, "output folder")->required();
   cmd->callback([exit_code] {
+    try {
+      if (!stages.empty()) options.stages = ParseStageList(stages);
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "fusecal run: --stages: " << e.what() << "\n";
+      *exit_code = 2;
+      return;
+    }
     if (options.live && (options.log_path.empty() || options.speed <= 0)) {
       std::cerr << "fusecal run: --live plays a log at recorded time: give --log and a --speed above 0\n";
       *exit_code = 2;
@@ -53,11 +64,15 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
       if (tty) std::cerr << "\n";
       if (g_stop) std::cerr << "stopped by signal; writing what was computed\n";
       std::cout << SummaryText(report.outputs, options.out_dir);
-      std::cout << std::fixed << std::setprecision(2) << "time: " << report.total_seconds << " s total ("
-                << report.total_seconds / std::max(1e-9, report.span_s) << " x the recording's " << report.span_s
-                << " s: startup " << report.startup_seconds << " s, replay " << report.replay_seconds
-                << " s, after the log " << report.after_log_seconds << " s, stop and outputs "
-                << report.outputs_seconds << " s);";
+      std::cout << std::fixed << std::setprecision(2) << "time: " << report.total_seconds << " s total (";
+      if (report.span_s > 0)
+        std::cout << report.total_seconds / report.span_s << " x the recording's " << report.span_s << " s: ";
+      std::cout << "startup " << report.startup_seconds << " s, ";
+      if (options.log_path.empty())
+        std::cout << "listening " << report.listen_seconds << " s, ";
+      else
+        std::cout << "replay " << report.replay_seconds << " s, after the log " << report.after_log_seconds << " s, ";
+      std::cout << "stop and outputs " << report.outputs_seconds << " s);";
       std::cout << StageBusyText(report.stage_counters);
       std::cout << "; stage restarts: " << report.restarts;
       if (report.roudi_restarts > 0) std::cout << "; RouDi restarts: " << report.roudi_restarts;

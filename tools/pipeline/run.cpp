@@ -13,6 +13,7 @@
 #include "runtime/supervisor.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
+#include "runtime/stage_main.hpp"
 #include "formats/extrinsic_status.hpp"
 
 namespace fusecal {
@@ -27,6 +28,8 @@ struct PipelineWatch {
   std::set<int> failed_for;                           // station_j of failed motions
   std::set<std::string> alive;                        // stage names that sent STATUS
   std::map<std::string, int> pids;                    // stage name -> pid of its latest STATUS
+  bool player_done = false;                           // a player (another host's run) has said "done"
+  std::string player_host;
   std::vector<Subscription> subs;
 
   explicit PipelineWatch(Bus& bus) {
@@ -40,7 +43,12 @@ struct PipelineWatch {
     subs.push_back(bus.SubscribeRaw(channels::kCameraMotion, on_motion));
     subs.push_back(bus.SubscribeRaw(channels::kStatus, [this](const RawMessage& raw) {
       status_t s{};
-      if (s.decode(raw.data, 0, static_cast<int>(raw.size)) < 0 || s.state == "stopped") return;
+      if (s.decode(raw.data, 0, static_cast<int>(raw.size)) < 0) return;
+      if (s.name == kPlayerName) {
+        player_done = s.state == "done";
+        player_host = s.host;
+      }
+      if (s.state == "stopped" || s.name == kPlayerName) return;
       alive.insert(s.name);
       pids[s.name] = s.pid;
     }));
@@ -58,6 +66,7 @@ class PipelineRun {
         stop_(stop),
         progress_(progress),
         event_(event),
+        player_(!options.log_path.empty()),
         url_(options.bus_url.empty() ? (config.bus_url.empty() ? DefaultBusUrl() : config.bus_url) : options.bus_url),
         use_detector_(config.stations_from == "detector" ||
                       (config.stations_from == "auto" && (options.log_path.empty() || !LogHasStations(options.log_path)))),
@@ -66,19 +75,25 @@ class PipelineRun {
         bus_(MakeBus(transport_.coordinator_url())),
         session_(*bus_, options.out_dir + "/session.lcmlog", true),
         watch_(*bus_),
+        split_(SplitStages(PipelineStageNames(use_detector_, config.ros2_tf.enabled), options.stages)),
         supervisor_(options.out_dir) {}
 
   RunReport Run() {
     const auto start = Clock::now();
     StartStages();
-    if (!Pump(30, [&] { return watch_.alive.size() == names_.size(); }))
+    if (!Pump(30, [&] { return AllAlive(names_); }))
       throw std::runtime_error("not every stage started within 30 s (see " + options_.out_dir + "/<stage>.log)");
+    if (player_) WaitForStagesElsewhere();
     report_.startup_seconds = Seconds(start);
-    if (!options_.log_path.empty()) {
+    if (player_) {
       ReplayLog();
     } else {
-      event_("listening to live sensors on " + url_ + " (Ctrl-C to stop)");
-      Pump(1e9, nullptr);
+      event_("listening to live sensors on " + url_ + " (Ctrl-C to stop" +
+             (options_.stages.empty() ? ")" : "; ends when the host playing the log is done)"));
+      const auto listen_start = Clock::now();
+      Pump(1e9, [&] { return !options_.stages.empty() && watch_.player_done; });
+      report_.listen_seconds = Seconds(listen_start);
+      if (!stop_) event_("the player on " + watch_.player_host + " is done");
     }
     const auto finish = Clock::now();
     RunReport report = Finish();
@@ -90,15 +105,42 @@ class PipelineRun {
 
  private:
   void StartStages() {
-    names_ = {"lidar_icp", "camera_frontend", "fusion_odometry", "handeye"};
-    if (use_detector_) names_.insert(names_.begin(), "stationarity");
-    if (config_.ros2_tf.enabled) names_.push_back("ros2_tf");  // the extrinsic on ROS 2's rt/tf_static
+    names_ = split_.here;  // ros2_tf, when enabled: the extrinsic on ROS 2's rt/tf_static
+    for (const auto& name : split_.not_needed)
+      event_(name + " is not started: " +
+             (name == "stationarity" ? "the stations come from the log" : "ros2_tf.enabled is false in the config"));
     for (const auto& name : names_) {
       std::string exe = name;
       std::replace(exe.begin(), exe.end(), '_', '-');
       supervisor_.Add({name, ExecutableDir() + "/fusecal-" + exe, {"--config", config_.path, "--bus", transport_.stage_url()}});
     }
     supervisor_.StartAll();
+  }
+
+  bool AllAlive(const std::vector<std::string>& names) const {
+    for (const auto& name : names)
+      if (!watch_.alive.count(name)) return false;
+    return true;
+  }
+
+  // The stages this host does not start: their heartbeats from other hosts, before the first message
+  // of the log (a stage that is not up yet would miss stations).
+  void WaitForStagesElsewhere() {
+    if (split_.elsewhere.empty()) return;
+    const std::string there = "fusecal run --stages " + JoinNames(split_.elsewhere) + " --bus '" + url_ + "' --out DIR";
+    event_("waiting for " + JoinNames(split_.elsewhere) + " on other hosts (there: " + there + ")");
+    if (!Pump(config_.idle_timeout_s, [&] { return AllAlive(split_.elsewhere); }))
+      throw std::runtime_error("no heartbeat on " + url_ + " from every one of " + JoinNames(split_.elsewhere) +
+                               " within run.idle_timeout_s = " + std::to_string(config_.idle_timeout_s) +
+                               " s: start `" + there + "` on another host, with the same config");
+  }
+
+  // The player's heartbeat: other hosts' runs (without a log) end when it says "done".
+  void PublishPlayerStatus(const std::string& state) {
+    StageStatus status;
+    status.state = state;
+    PublishStatus(*bus_, kPlayerName, status, "");
+    last_player_status_ = Clock::now();
   }
 
   // Pumps the bus for up to `seconds`, restarting dead stages; returns early when `done` holds.
@@ -113,6 +155,7 @@ class PipelineRun {
       }
       RestartWhatDied();
       ResupplyRestartedStages();
+      if (player_ && Clock::now() - last_player_status_ > std::chrono::seconds(1)) PublishPlayerStatus("playing");
       const std::string line = ProgressText(session_);
       if (line != last_progress_) progress_(last_progress_ = line);
     }
@@ -238,12 +281,14 @@ class PipelineRun {
 
   RunReport Finish() {
     report_.used_dds = url_.rfind("dds://", 0) == 0;
+    if (player_) PublishPlayerStatus("done");  // the runs on other hosts stop their stages and write outputs
     supervisor_.Stop();
     transport_.Stop();  // after the stages: stopping RouDi ends whatever is still attached to it
     report_.roudi_restarts = transport_.roudi_restarts();
     // The stages' last STATUS ("stopped", with their final counters), for at most half a second.
     for (const auto end = Clock::now() + std::chrono::milliseconds(500); Clock::now() < end && !AllStopped();)
       bus_->Handle(20);
+    if (player_) PublishPlayerStatus("done");  // again, in case the first was lost
     report_.stage_counters = session_.stage_counters();
     report_.bus_dropped = static_cast<double>(bus_->dropped_messages());
     for (const auto& [name, counters] : report_.stage_counters) report_.bus_dropped += StageCounter(counters, "bus_dropped");
@@ -266,19 +311,21 @@ class PipelineRun {
   const std::atomic<bool>& stop_;
   const std::function<void(const std::string&)>& progress_;
   const std::function<void(const std::string&)>& event_;
+  const bool player_;  // this run plays a log
   const std::string url_;
   const bool use_detector_;
   SharedMemoryTransport transport_;
   std::unique_ptr<Bus> bus_;
   SessionRecord session_;
   PipelineWatch watch_;
+  const StageSplit split_;
   Supervisor supervisor_;
   std::vector<std::string> names_;
   RunReport report_;
   std::map<std::string, pid_t> resupplied_;  // stage -> pid that was given the stations again
   std::string last_progress_;
   int stations_published_ = 0;
-  Clock::time_point replay_start_;
+  Clock::time_point replay_start_, last_player_status_;
   int64_t replay_start_wall_utime_ = 0;
   int64_t first_utime_ = -1, last_utime_ = -1;  // of the events played
 };

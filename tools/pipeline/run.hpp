@@ -8,15 +8,23 @@
 // Live replay (`live`) plays the log at recorded time (x speed) and never waits, as sensors do: stages
 // that fall behind meet their overload policy (docs/design.md section 5), and the latency of the answer
 // per station is measured (latency.csv).
+//
+// Stages on several hosts (`stages`): this run starts only the listed stages; the others run on other
+// hosts on the same bus, under a `fusecal run --stages ...` of their own. The run with the log waits
+// for every stage's heartbeat before it plays, paces the replay by the answers from all hosts, and
+// says "done" (STATUS of kPlayerName) at the end; a run with `stages` and without a log ends when it
+// hears that (and writes its outputs), as on Ctrl-C.
 #pragma once
 
 #include <atomic>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "pipeline/outputs.hpp"
 #include "pipeline/latency.hpp"
 #include "pipeline/pipeline_config.hpp"
+#include "pipeline/stage_split.hpp"
 #include "pipeline/stage_table.hpp"
 
 namespace fusecal {
@@ -27,6 +35,7 @@ struct RunOptions {
   bool live = false;      // play at recorded time x speed without waiting for the stages
   std::string bus_url;    // empty: the config's
   std::string out_dir;
+  std::vector<std::string> stages;  // the stages started here (`--stages`); empty: all
 };
 
 struct RunReport {
@@ -39,6 +48,7 @@ struct RunReport {
   // Where the time went: starting the stages, playing the log, the stages' work after its end,
   // stopping them and writing the outputs.
   double startup_seconds = 0, replay_seconds = 0, after_log_seconds = 0, outputs_seconds = 0;
+  double listen_seconds = 0;  // without a log: until Ctrl-C or the player's "done"
   StageCounters stage_counters;  // each stage's last STATUS counters (busy_s, bus_dropped, ...; stages.csv)
   double span_s = 0;             // recording span played
   std::vector<StationLatency> latencies;  // live replay only (latency.csv)

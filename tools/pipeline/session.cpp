@@ -49,7 +49,7 @@ SessionRecord::SessionRecord(Bus& bus, const std::string& record_path, bool reco
       last_news_utime_ = raw.receive_utime;
     } else if (ch == channels::kStatus) {
       status_t s{};
-      if (!Decode(raw, &s)) return;
+      if (!Decode(raw, &s) || s.name == kPlayerName) return;
       stage_states_[s.name] = {s.state, s.last_error};
       auto& counters = stage_counters_[s.name];
       for (int i = 0; i < s.num_counters; ++i) counters[s.counter_names[i]] = s.counter_values[i];

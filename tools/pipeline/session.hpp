@@ -17,6 +17,11 @@
 
 namespace fusecal {
 
+// The STATUS name of the `fusecal run` that plays a log: 1 Hz, state "playing", and "done" once the
+// pipeline has dealt with the whole log, which ends a `fusecal run` without a log on another host
+// (`--stages`). Not a stage: SessionRecord leaves it out of stage_states() and stage_counters().
+inline constexpr const char* kPlayerName = "player";
+
 class SessionRecord {
  public:
   // `record_path` empty: no log. Raw streams (CAMERA_IMAGE, LIDAR_SCAN) are recorded only when
