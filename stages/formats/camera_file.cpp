@@ -11,18 +11,21 @@ namespace {
 
 CameraParams ReadCamera(ConfigReader& r) {
   CameraParams p;
-  r.Require("model", &p.model, OneOf({"pinhole", "equirectangular"}));
+  r.Require("model", &p.model, OneOf({"pinhole", "equidistant", "equirectangular"}));
   r.Require("width", &p.width, Positive<int>());
   r.Require("height", &p.height, Positive<int>());
-  if (p.model == "pinhole") {
+  if (p.HasIntrinsics()) {
     r.Require("fx", &p.fx, Positive<double>());
     r.Require("fy", &p.fy, Positive<double>());
     r.Require("cx", &p.cx);
     r.Require("cy", &p.cy);
     std::vector<double> dist(5, 0.0);
-    r.Get<std::vector<double>>("dist", &dist, [](const std::vector<double>& d) {
+    const bool fisheye = p.model == "equidistant";
+    r.Get<std::vector<double>>("dist", &dist, [fisheye](const std::vector<double>& d) {
+      if (fisheye) return d.size() == 4 ? std::string() : std::string("needs 4 numbers: k1 k2 k3 k4");
       return d.size() == 5 ? std::string() : std::string("needs 5 numbers: k1 k2 p1 p2 k3");
     });
+    dist.resize(5, 0.0);
     for (int i = 0; i < 5; ++i) p.dist[i] = dist[i];
   }
   r.Finish();
@@ -47,9 +50,10 @@ std::string CameraToYaml(const CameraParams& p) {
   std::ostringstream out;
   out.precision(12);
   out << "model: " << p.model << "\nwidth: " << p.width << "\nheight: " << p.height << "\n";
-  if (p.model == "pinhole") {
+  if (p.HasIntrinsics()) {
     out << "fx: " << p.fx << "\nfy: " << p.fy << "\ncx: " << p.cx << "\ncy: " << p.cy << "\ndist: [";
-    for (int i = 0; i < 5; ++i) out << (i ? ", " : "") << p.dist[i];
+    const int count = p.model == "equidistant" ? 4 : 5;
+    for (int i = 0; i < count; ++i) out << (i ? ", " : "") << p.dist[i];
     out << "]\n";
   }
   return out.str();

@@ -1,17 +1,18 @@
 #include "camera_model.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace fusecal {
 
 std::string CameraParams::Validate() const {
-  if (model != "pinhole" && model != "equirectangular")
-    return "model: unknown camera model '" + model + "' (expected pinhole or equirectangular)";
+  if (model != "pinhole" && model != "equidistant" && model != "equirectangular")
+    return "model: unknown camera model '" + model + "' (expected pinhole, equidistant or equirectangular)";
   if (width <= 0) return "width: must be positive, got " + std::to_string(width);
   if (height <= 0) return "height: must be positive, got " + std::to_string(height);
-  if (model == "pinhole") {
+  if (HasIntrinsics()) {
     if (!(fx > 0)) return "fx: must be positive";
     if (!(fy > 0)) return "fy: must be positive";
     if (!std::isfinite(cx)) return "cx: must be finite";
@@ -93,6 +94,63 @@ Eigen::Vector3d PinholeCamera::Unproject(const Eigen::Vector2d& pixel) const {
   return Eigen::Vector3d(xy.x(), xy.y(), 1.0).normalized();
 }
 
+// ------------------------------------------------------------------------------------------ equidistant
+
+EquidistantCamera::EquidistantCamera(const CameraParams& params) : CameraModel(params) {
+  // Like the pinhole's radius: beyond the first maximum of theta_d rays fold back; find it once.
+  max_theta_ = M_PI;
+  double prev = 0.0;
+  for (double theta = 1e-3; theta <= M_PI; theta += 1e-3) {
+    const double theta_d = DistortAngle(theta);
+    if (theta_d <= prev) {
+      max_theta_ = theta - 1e-3;
+      break;
+    }
+    prev = theta_d;
+  }
+}
+
+double EquidistantCamera::DistortAngle(double theta) const {
+  const auto& k = params().dist;
+  const double t2 = theta * theta;
+  return theta * (1.0 + t2 * (k[0] + t2 * (k[1] + t2 * (k[2] + t2 * k[3]))));
+}
+
+double EquidistantCamera::UndistortAngle(double theta_d) const {
+  // Newton on DistortAngle(theta) = theta_d, numeric derivative, started at theta_d.
+  double theta = std::min(theta_d, max_theta_);
+  for (int iter = 0; iter < 30; ++iter) {
+    const double residual = DistortAngle(theta) - theta_d;
+    if (std::abs(residual) < 1e-14) break;
+    const double h = 1e-7;
+    const double slope = (DistortAngle(theta + h) - DistortAngle(theta - h)) / (2.0 * h);
+    if (!(slope > 1e-12)) break;
+    theta = std::clamp(theta - residual / slope, 0.0, max_theta_);
+  }
+  return theta;
+}
+
+bool EquidistantCamera::Project(const Eigen::Vector3d& p, Eigen::Vector2d* pixel) const {
+  if (!p.allFinite()) return false;
+  const double r = std::hypot(p.x(), p.y());
+  const double theta = std::atan2(r, p.z());
+  if (theta > max_theta_ || r + std::abs(p.z()) < 1e-12) return false;
+  const double scale = r > 1e-12 ? DistortAngle(theta) / r : 1.0 / p.z();
+  const auto& c = params();
+  *pixel = Eigen::Vector2d(c.fx * p.x() * scale + c.cx, c.fy * p.y() * scale + c.cy);
+  return InImage(*pixel);
+}
+
+Eigen::Vector3d EquidistantCamera::Unproject(const Eigen::Vector2d& pixel) const {
+  const auto& c = params();
+  const Eigen::Vector2d xyd((pixel.x() - c.cx) / c.fx, (pixel.y() - c.cy) / c.fy);
+  const double theta_d = xyd.norm();
+  if (theta_d < 1e-12) return Eigen::Vector3d::UnitZ();
+  const double theta = UndistortAngle(theta_d);
+  const Eigen::Vector2d direction = xyd / theta_d;
+  return {std::sin(theta) * direction.x(), std::sin(theta) * direction.y(), std::cos(theta)};
+}
+
 // -------------------------------------------------------------------------------------- equirectangular
 
 EquirectangularCamera::EquirectangularCamera(const CameraParams& params) : CameraModel(params) {}
@@ -117,6 +175,7 @@ std::unique_ptr<CameraModel> MakeCameraModel(const CameraParams& params) {
   const std::string error = params.Validate();
   if (!error.empty()) throw std::invalid_argument("camera " + error);
   if (params.model == "pinhole") return std::make_unique<PinholeCamera>(params);
+  if (params.model == "equidistant") return std::make_unique<EquidistantCamera>(params);
   return std::make_unique<EquirectangularCamera>(params);
 }
 

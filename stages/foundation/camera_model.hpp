@@ -19,11 +19,13 @@
 namespace fusecal {
 
 struct CameraParams {
-  std::string model = "pinhole";  // "pinhole" or "equirectangular"
+  std::string model = "pinhole";  // "pinhole", "equidistant" (fisheye) or "equirectangular"
   int width = 0;
   int height = 0;
-  double fx = 0, fy = 0, cx = 0, cy = 0;           // pinhole only
-  std::array<double, 5> dist{0, 0, 0, 0, 0};      // k1 k2 p1 p2 k3 (OpenCV), pinhole only
+  double fx = 0, fy = 0, cx = 0, cy = 0;       // pinhole and equidistant
+  std::array<double, 5> dist{0, 0, 0, 0, 0};  // pinhole: k1 k2 p1 p2 k3 (OpenCV); equidistant: k1 k2 k3 k4 0
+
+  bool HasIntrinsics() const { return model == "pinhole" || model == "equidistant"; }
 
   // Empty when valid, else a message naming the offending field.
   std::string Validate() const;
@@ -68,6 +70,22 @@ class PinholeCamera : public CameraModel {
 
  private:
   double max_radius2_;  // squared normalised radius up to which the distortion is monotonic
+};
+
+// Equidistant fisheye (Kannala-Brandt, OpenCV's cv::fisheye and ROS's "equidistant"): a ray at angle
+// theta from the optical axis lands at radius theta_d = theta (1 + k1 theta^2 + k2 theta^4 + k3 theta^6 +
+// k4 theta^8) in normalised coordinates. Sees rays up to the first maximum of theta_d (beyond 90 deg).
+class EquidistantCamera : public CameraModel {
+ public:
+  explicit EquidistantCamera(const CameraParams& params);
+  bool Project(const Eigen::Vector3d& p_camera, Eigen::Vector2d* pixel) const override;
+  Eigen::Vector3d Unproject(const Eigen::Vector2d& pixel) const override;
+
+  double DistortAngle(double theta) const;
+  double UndistortAngle(double theta_d) const;
+
+ private:
+  double max_theta_;  // angle up to which theta_d grows with theta (at most pi)
 };
 
 class EquirectangularCamera : public CameraModel {

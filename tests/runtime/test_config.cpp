@@ -74,7 +74,7 @@ TEST(Config, RequiredKeysAndSyntaxErrors) {
 namespace fusecal {
 namespace {
 
-TEST(CameraFile, ParsesBothModelsAndRoundTrips) {
+TEST(CameraFile, ParsesEveryModelAndRoundTrips) {
   const CameraParams p = ParseCameraYaml(
       "model: pinhole\nwidth: 1242\nheight: 375\nfx: 721.5\nfy: 721.5\ncx: 609.6\ncy: 172.9\n"
       "dist: [0.1, -0.2, 0, 0, 0.01]\n");
@@ -84,6 +84,14 @@ TEST(CameraFile, ParsesBothModelsAndRoundTrips) {
   EXPECT_EQ(back.fx, p.fx);
   EXPECT_EQ(back.dist, p.dist);
   EXPECT_EQ(ParseCameraYaml("model: equirectangular\nwidth: 2048\nheight: 1024\n").model, "equirectangular");
+  const CameraParams fisheye = ParseCameraYaml(
+      "model: equidistant\nwidth: 1024\nheight: 1024\nfx: 290\nfy: 291\ncx: 511.5\ncy: 510\n"
+      "dist: [0.021, -0.0061, 0.0009, -0.0002]\n");
+  EXPECT_EQ(fisheye.dist[3], -0.0002);
+  EXPECT_EQ(ParseCameraYaml(CameraToYaml(fisheye)).dist, fisheye.dist);
+  EXPECT_THROW(ParseCameraYaml("model: equidistant\nwidth: 10\nheight: 10\nfx: 1\nfy: 1\ncx: 1\ncy: 1\n"
+                               "dist: [0, 0, 0, 0, 0]\n"),
+               ConfigError);  // a fisheye has four coefficients
 }
 
 TEST(CameraFile, ErrorsNameTheKey) {

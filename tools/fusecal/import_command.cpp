@@ -1,4 +1,4 @@
-// `fusecal import kitti|folder|ishikawa DIR --out LOG ...`.
+// `fusecal import kitti|folder|ishikawa DIR --out LOG ...`, `fusecal import rosbag BAG --out LOG ...`.
 #include <CLI/CLI.hpp>
 #include <iostream>
 
@@ -7,6 +7,7 @@
 #include "ishikawa.hpp"
 #include "kitti.hpp"
 #include "progress.hpp"
+#include "rosbag.hpp"
 #include "formats/camera_file.hpp"
 
 namespace fusecal {
@@ -24,6 +25,26 @@ int Report(const std::string& out, const std::function<ImportReport()>& run) {
     std::cerr << "fusecal import: " << e.what() << " (no log written)\n";
     return 1;
   }
+}
+
+void AddRosbagImport(CLI::App& import, int* exit_code) {
+  auto* rosbag = import.add_subcommand("rosbag", "ROS 1 bag: sensor_msgs Image/CompressedImage, PointCloud2, CameraInfo");
+  static std::string bag_path, bag_out, bag_camera;
+  static RosbagImportOptions options;
+  rosbag->add_option("BAG", bag_path, "the .bag file")->required();
+  rosbag->add_option("--image-topic", options.image_topic, "sensor_msgs/Image or CompressedImage topic");
+  rosbag->add_option("--cloud-topic", options.cloud_topic, "sensor_msgs/PointCloud2 topic");
+  rosbag->add_option("--camera", bag_camera, "camera YAML, used instead of the bag's CameraInfo");
+  rosbag->add_option("--camera-info-topic", options.camera_info_topic,
+                     "CameraInfo topic (default: camera_info next to the image topic)");
+  rosbag->add_option("--out", bag_out, "LCM log to write")->required();
+  rosbag->callback([exit_code] {
+    ProgressLine progress("importing " + bag_path);
+    *exit_code = Report(bag_out, [&] {
+      if (!bag_camera.empty()) options.camera = LoadCameraFile(bag_camera);
+      return ImportRosbag(bag_path, bag_out, options, std::ref(progress));
+    });
+  });
 }
 
 }  // namespace
@@ -75,6 +96,7 @@ void AddImportCommands(CLI::App& app, int* exit_code) {
     *exit_code =
         Report(ishikawa_out, [&] { return ImportIshikawa(ishikawa_dir, ishikawa_out, std::ref(progress)); });
   });
+  AddRosbagImport(*import, exit_code);
 }
 
 }  // namespace fusecal

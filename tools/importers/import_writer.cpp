@@ -60,6 +60,11 @@ void ImportWriter::WriteImageFile(int64_t utime, const std::vector<uint8_t>& byt
   ++report_.images;
 }
 
+void ImportWriter::WriteImage(int64_t utime, const cv::Mat& image) {
+  writer_->WriteMessage(channels::kCameraImage, utime, MatToImage(image, image.channels() == 1 ? "mono8" : "bgr8", utime));
+  ++report_.images;
+}
+
 void ImportWriter::WriteScan(int64_t utime, const PointCloud& cloud) {
   writer_->WriteMessage(channels::kLidarScan, utime, CloudToMsg(cloud, utime));
   ++report_.scans;

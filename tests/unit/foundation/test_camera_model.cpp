@@ -28,6 +28,19 @@ CameraParams Panorama() {
   return p;
 }
 
+CameraParams Fisheye() {  // a 190-degree lens on a 1024 x 1024 sensor (coefficients of a real calibration)
+  CameraParams p;
+  p.model = "equidistant";
+  p.width = 1024;
+  p.height = 1024;
+  p.fx = 290;
+  p.fy = 291;
+  p.cx = 511.5;
+  p.cy = 510.0;
+  p.dist = {0.021, -0.0061, 0.0009, -0.0002, 0};
+  return p;
+}
+
 // pixel -> bearing -> pixel over the whole image, every `stride` pixels plus the last row/column.
 double WorstRoundTripError(const CameraModel& camera, int stride) {
   double worst = 0;
@@ -58,6 +71,37 @@ TEST(CameraModel, PinholeWithDistortionRoundTripsBelowMicroPixel) {
 TEST(CameraModel, EquirectangularRoundTripsBelowMicroPixel) {
   const auto camera = MakeCameraModel(Panorama());
   EXPECT_LT(WorstRoundTripError(*camera, 4), 1e-6);
+}
+
+TEST(CameraModel, EquidistantRoundTripsBelowMicroPixelInsideItsImageCircle) {
+  const auto camera = MakeCameraModel(Fisheye());
+  double worst = 0;
+  for (int v = 0; v < camera->height(); v += 4)
+    for (int u = 0; u < camera->width(); u += 4) {
+      const Eigen::Vector3d bearing = camera->Unproject({u, v});
+      Eigen::Vector2d back;
+      if (std::acos(bearing.z()) > 95.0 * M_PI / 180.0) continue;  // corners lie outside the image circle
+      ASSERT_TRUE(camera->Project(bearing * 2.5, &back)) << u << "," << v;
+      worst = std::max(worst, (back - Eigen::Vector2d(u, v)).norm());
+    }
+  EXPECT_LT(worst, 1e-6);
+}
+
+TEST(CameraModel, EquidistantMatchesTheKannalaBrandtFormulaAndSeesBehindNinetyDegrees) {
+  const CameraParams p = Fisheye();
+  const auto camera = MakeCameraModel(p);
+  const double theta = 0.7;  // 40 degrees off axis, towards +x +y
+  const Eigen::Vector3d ray(std::sin(theta) * 0.6, std::sin(theta) * 0.8, std::cos(theta));
+  const auto& k = p.dist;
+  const double theta_d = theta * (1 + k[0] * std::pow(theta, 2) + k[1] * std::pow(theta, 4) +
+                                  k[2] * std::pow(theta, 6) + k[3] * std::pow(theta, 8));
+  Eigen::Vector2d pixel;
+  ASSERT_TRUE(camera->Project(ray, &pixel));
+  EXPECT_NEAR(pixel.x(), p.fx * theta_d * 0.6 + p.cx, 1e-9);
+  EXPECT_NEAR(pixel.y(), p.fy * theta_d * 0.8 + p.cy, 1e-9);
+  const double side = 95.0 * M_PI / 180.0;  // slightly behind the image plane: a pinhole cannot see it
+  EXPECT_TRUE(camera->Project({std::sin(side), 0, std::cos(side)}, &pixel));
+  EXPECT_FALSE(camera->Project({0, 0, -1}, &pixel));
 }
 
 TEST(CameraModel, PinholeWithoutDistortionMatchesProjectionFormula) {
