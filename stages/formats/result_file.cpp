@@ -41,6 +41,7 @@ void EmitBody(YAML::Emitter& out, const CalibrationResult& r) {
   }
   out << YAML::Key << "status" << YAML::Value << r.status;
   out << YAML::Key << "observability" << YAML::Value << r.observability;
+  if (r.unobservable_direction) EmitVector(out, "unobservable_direction", ToVector(*r.unobservable_direction));
   out << YAML::Key << "motions_used" << YAML::Value << YAML::Flow << r.motions_used;
   out << YAML::Key << "motions_rejected" << YAML::Value << r.motions_rejected;
   out << YAML::Key << "residual_rms" << YAML::Value << r.residual_rms;
@@ -110,6 +111,11 @@ CalibrationResult ReadResultFile(const std::string& path) {
   read_string("status", &result.status);
   read_string("observability", &result.observability);
   if (root["residual_rms"] && root["residual_rms"].IsScalar()) result.residual_rms = root["residual_rms"].as<double>(0.0);
+  const YAML::Node direction = root["unobservable_direction"];
+  if (direction && direction.IsSequence() && direction.size() == 3) {
+    const Eigen::Vector3d d(direction[0].as<double>(0.0), direction[1].as<double>(0.0), direction[2].as<double>(0.0));
+    if (d.allFinite() && d.norm() > 0.5) result.unobservable_direction = d.normalized();
+  }
   if (root["covariance"] && root["covariance"].IsSequence() && root["covariance"].size() == 36) {
     Matrix6 c;
     for (int i = 0; i < 36; ++i) c.data()[i] = root["covariance"][i].as<double>();

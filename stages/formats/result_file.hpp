@@ -6,7 +6,8 @@
 //   rotation_quaternion_wxyz: [w, x, y, z]
 //   rotation_rpy_deg: [roll, pitch, yaw]          (R = Rz(yaw) Ry(pitch) Rx(roll))
 //   std_dev: {rotation_deg: [3], translation_m: [3]}
-//   status, observability, motions_used, motions_rejected, residual_rms
+//   status, observability, unobservable_direction (camera frame, when any), motions_used, motions_rejected,
+//   residual_rms
 //   initial: {...same keys...}                   (optional: the scaleless initial estimate)
 #pragma once
 
@@ -27,6 +28,8 @@ struct CalibrationResult {
   std::vector<std::string> motions_used;      // e.g. "3-4" (station ids)
   std::vector<std::string> motions_rejected;  // e.g. "5-6: rotation angles differ by 3.1 deg"
   double residual_rms = 0.0;
+  // Camera frame, unit: the direction the motions leave unobserved (see observability), when there is one.
+  std::optional<Eigen::Vector3d> unobservable_direction;
   std::map<std::string, std::string> extra;   // further scalar facts (iterations, source, ...)
 };
 

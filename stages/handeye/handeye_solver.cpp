@@ -10,6 +10,7 @@
 #include "handeye/rotation_solver.hpp"
 #include "handeye/screening.hpp"
 #include "handeye/translation_solver.hpp"
+#include "handeye/travel_direction.hpp"
 
 namespace fusecal {
 namespace {
@@ -34,6 +35,27 @@ void SetCovariance(const Matrix6& C, HandEyeResult* r) {
     r->std_dev_rot_deg(k) = std::sqrt(std::max(r->covariance(k, k), 0.0)) * kRadToDeg;
     r->std_dev_trans_m(k) = std::sqrt(std::max(r->covariance(k + 3, k + 3), 0.0));
   }
+}
+
+// Motions that only translate (FindTravelDirection): the estimate takes the initial guess (or the identity)
+// turned the least so that it maps the LiDAR's direction of travel onto the camera's, and the verdict names
+// what stays unobserved. The status stays failed: two rotational degrees of freedom are not an extrinsic.
+void DescribeTravelOnly(const TravelDirection& travel, const HandEyeSettings& s, const Isometry3* initial,
+                        HandEyeResult* r) {
+  const Eigen::Matrix3d R0 = initial ? Eigen::Matrix3d(initial->linear()) : Eigen::Matrix3d::Identity();
+  r->T_camera_lidar = MakeIsometry(AlignAxis(R0, travel.lidar, travel.camera),
+                                   initial ? Eigen::Vector3d(initial->translation()) : Eigen::Vector3d::Zero());
+  r->unobservable_direction = travel.camera;
+  const Eigen::IOFormat list(3, Eigen::DontAlignCols, ", ", ", ", "", "", "[", "]");
+  std::ostringstream m;
+  m.precision(3);
+  m << "the motions translate without rotating (" << travel.pairs << " pairs, largest rotation "
+    << travel.largest_rotation_deg << " deg < min_rotation_deg " << s.min_rotation_deg
+    << "): unobservable are the rotation about the direction of travel, camera " << travel.camera.format(list)
+    << ", and the whole translation; observed is only the direction of travel, LiDAR " << travel.lidar.format(list)
+    << " = camera " << travel.camera.format(list) << " (spread " << travel.spread_deg
+    << " deg); turn the rig about two different axes";
+  r->message += "; " + m.str();
 }
 
 // Validates settings and the initial guess, screens the pairs. False (result filled as failed) when no
@@ -65,6 +87,7 @@ bool Prepare(const std::vector<MotionPair>& input, const HandEyeSettings& s, boo
     m << "too few usable motion pairs: " << w->size() << " of " << input.size() << " (at least 2 needed, "
       << s.min_pairs << " for a verdict)";
     r->message = m.str();
+    if (const auto travel = FindTravelDirection(input, s)) DescribeTravelOnly(*travel, s, initial, r);
     return false;
   }
   return true;

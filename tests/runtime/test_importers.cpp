@@ -15,6 +15,8 @@
 #include "runtime/channels.hpp"
 #include "formats/conversions.hpp"
 #include "formats/ground_truth.hpp"
+#include "formats/result_file.hpp"
+#include "foundation/extrinsic_error.hpp"
 #include "scan_io/scan_io.hpp"
 #include "visualization/overlay.hpp"
 
@@ -226,6 +228,36 @@ TEST(KittiSnippet, ImportGivesAllFramesAndTheReferenceProjectsOntoEdges) {
     ++stations;
   }
   EXPECT_EQ(stations, 4);
+}
+
+}  // namespace
+}  // namespace fusecal
+
+namespace fusecal {
+namespace {
+
+// The README's worked example: a straight drive observes only the direction of travel, and says so.
+TEST(KittiSnippet, AStraightDriveIsNotConvergedAndNamesWhatIsUnobserved) {
+  if (!fs::exists(kKittiDir + "/calib_velo_to_cam.txt"))
+    GTEST_SKIP() << "KITTI snippet not found at " << kKittiDir << ": real-data check not run";
+  const std::string dir = FreshDir("worked_example");
+  const std::string fusecal = FUSECAL_BIN;
+  ASSERT_EQ(RunCommand(fusecal + " import kitti " + kKittiDir + " --stations every:6 --out " + dir +
+                       "/kitti.lcmlog > /dev/null 2>&1").exit_code, 0);
+  const auto calibrate = RunCommand(fusecal + " calibrate --log " + dir + "/kitti.lcmlog --out " + dir + "/out 2>&1");
+  EXPECT_EQ(calibrate.exit_code, 1) << calibrate.output;  // not converged
+  EXPECT_NE(calibrate.output.find("result: failed (observability: too_few_motions)"), std::string::npos)
+      << calibrate.output;
+  EXPECT_NE(calibrate.output.find("rotation about the direction of travel"), std::string::npos) << calibrate.output;
+  EXPECT_NE(calibrate.output.find("the whole translation"), std::string::npos) << calibrate.output;
+
+  const CalibrationResult result = ReadResultFile(dir + "/out/extrinsic.yaml");
+  EXPECT_NE(result.status, "converged");
+  ASSERT_TRUE(result.unobservable_direction);
+  EXPECT_GT(result.unobservable_direction->z(), 0.99);  // the car drives along the camera's optical axis
+  const ObservableError observed = CompareObservablePart(result.T_camera_lidar, ReadReferenceExtrinsic(dir + "/kitti.lcmlog"),
+                                                         *result.unobservable_direction);
+  EXPECT_LT(observed.direction_deg, 3.0);  // KITTI's calibration agrees with what was observed
 }
 
 }  // namespace

@@ -23,6 +23,15 @@ void AddEvaluateCommand(CLI::App& app, int* exit_code) {
                        {"trans_err_m", e.translation_m},
                        {"trans_err_xyz_m", {e.translation_xyz_m.x(), e.translation_xyz_m.y(),
                                             e.translation_xyz_m.z()}}};
+      if (result.unobservable_direction) {
+        // Only the part the motions observed (docs/design.md section 1, step 6) can be compared.
+        const ObservableError o = CompareObservablePart(result.T_camera_lidar, ReadReferenceExtrinsic(truth_path),
+                                                        *result.unobservable_direction);
+        line["unobservable_direction"] = {result.unobservable_direction->x(), result.unobservable_direction->y(),
+                                          result.unobservable_direction->z()};
+        line["observable_direction_err_deg"] = o.direction_deg;
+        line["trans_err_perpendicular_m"] = o.translation_perpendicular_m.norm();
+      }
       std::cout << line.dump() << "\n";
       *exit_code = 0;
     } catch (const std::exception& e) {

@@ -27,6 +27,8 @@ CalibrationResult ResultFromMessage(const extrinsic_t& e) {
   for (int k = 0; k < e.num_rejected; ++k)
     r.motions_rejected.push_back(std::to_string(e.rejected_station_i[k]) + "-" + std::to_string(e.rejected_station_j[k]));
   r.residual_rms = e.residual_rms;
+  const Eigen::Vector3d direction(e.unobservable_direction[0], e.unobservable_direction[1], e.unobservable_direction[2]);
+  if (direction.allFinite() && direction.norm() > 0.5) r.unobservable_direction = direction.normalized();
   r.extra["version"] = std::to_string(e.version);
   r.extra["iterations"] = std::to_string(e.iteration);
   r.extra["scaled"] = e.scaled ? "true" : "false";
@@ -158,6 +160,9 @@ CalibrationOutputs WriteCalibrationOutputs(const SessionRecord& session, const s
     if (initial) out.initial_result = ResultFromMessage(*initial);
     if (truth) {
       out.final_error = CompareExtrinsics(out.final_result.T_camera_lidar, *truth);
+      if (out.final_result.unobservable_direction)
+        out.observable_error = CompareObservablePart(out.final_result.T_camera_lidar, *truth,
+                                                     *out.final_result.unobservable_direction);
       if (initial) out.initial_error = CompareExtrinsics(out.initial_result.T_camera_lidar, *truth);
     }
   } else {
@@ -197,6 +202,15 @@ std::string SummaryText(const CalibrationOutputs& o, const std::string& dir) {
   if (o.final_error)
     s << "error vs ground truth: rotation " << o.final_error->rotation_deg << " deg, translation "
       << o.final_error->translation_m * 100 << " cm\n";
+  if (o.observable_error) {
+    const Eigen::Vector3d& d = *r.unobservable_direction;
+    s << "observable part vs ground truth: the LiDAR directions seen along camera [" << d.x() << ", " << d.y()
+      << ", " << d.z() << "] differ by " << o.observable_error->direction_deg << " deg";
+    if (r.observability == "translation_partly_unobservable")
+      s << "; translation perpendicular to it " << o.observable_error->translation_perpendicular_m.norm() * 100
+        << " cm";
+    s << "\n";
+  }
   if (o.initial_error)
     s << "scaleless initial estimate: rotation " << o.initial_error->rotation_deg << " deg, translation "
       << o.initial_error->translation_m * 100 << " cm\n";

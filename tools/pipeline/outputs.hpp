@@ -19,6 +19,7 @@ struct CalibrationOutputs {
   bool has_result = false;
   CalibrationResult final_result, initial_result;
   std::optional<ExtrinsicError> final_error, initial_error;  // against ground truth, when known
+  std::optional<ObservableError> observable_error;          // when the result names an unobservable direction
   std::vector<std::string> files;
   std::vector<std::string> warnings;  // e.g. gnuplot missing
 };

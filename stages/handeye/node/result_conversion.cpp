@@ -23,12 +23,7 @@ CalibrationResult ToCalibrationResult(const HandEyeResult& r,
   out.extra["residual_rms_rotation_deg"] = rot.str();
   out.extra["scaled"] = r.scaled ? "true" : "false";
   if (!r.message.empty()) out.extra["message"] = r.message;
-  if (r.observability == handeye_observability::kTranslationPartlyUnobservable) {
-    std::ostringstream dir;
-    dir << "[" << r.unobservable_direction.x() << ", " << r.unobservable_direction.y() << ", "
-        << r.unobservable_direction.z() << "]";
-    out.extra["unobservable_direction"] = dir.str();
-  }
+  if (r.unobservable_direction.norm() > 0.5) out.unobservable_direction = r.unobservable_direction;
   return out;
 }
 

@@ -295,6 +295,36 @@ TEST(HandEyeDegenerate, PureTranslationsAreTooFewMotions) {
   }
 }
 
+// A car driving straight: translations along one line, rotations of a few hundredths of a degree.
+TEST(HandEyeDegenerate, DrivingStraightObservesOnlyTheDirectionOfTravel) {
+  const Isometry3 X = MakeIsometry(ExpSO3(Eigen::Vector3d(1.2, -1.1, 1.3)), Eigen::Vector3d(0.05, -0.08, -0.27));
+  std::vector<MotionPair> pairs;
+  Eigen::Vector3d travel_sum = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 5; ++i) {
+    MotionPair p;
+    p.station_i = i;
+    p.station_j = i + 1;
+    const double wobble = 0.02 * kDeg * (i % 2 ? 1 : -1);
+    p.B = MakeIsometry(ExpSO3(Eigen::Vector3d(0, wobble, -wobble)),
+                       Eigen::Vector3d(0.5 + 0.4 * i, 0.01 * i, 0.002 * (i % 3)));
+    travel_sum += p.B.translation();
+    p.A = X * p.B * X.inverse();
+    p.A.translation() = p.A.translation().normalized();  // scaleless: a direction only
+    p.camera_scaled = false;
+    pairs.push_back(p);
+  }
+  const HandEyeResult r = SolveScaleless(pairs);
+  EXPECT_EQ(r.status, handeye_status::kFailed);
+  EXPECT_EQ(r.observability, handeye_observability::kTooFewMotions);
+  const Eigen::Vector3d travel_b = travel_sum.normalized();  // the mean direction, weighted by distance
+  const Eigen::Vector3d travel_a = X.linear() * travel_b;
+  EXPECT_TRUE(Parallel(r.unobservable_direction, travel_a, 1e-4)) << r.unobservable_direction.transpose();
+  // The estimate maps the direction of travel right; the rotation about it is arbitrary.
+  EXPECT_LT(std::acos(std::min(1.0, (r.T_camera_lidar.linear() * travel_b).dot(travel_a))), 0.5 * kDeg);
+  EXPECT_NE(r.message.find("rotation about the direction of travel"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("whole translation"), std::string::npos) << r.message;
+}
+
 TEST(HandEyeDegenerate, TwoMotionsAreTooFewButStillEstimated) {
   const auto data = GenerateSyntheticMotions(Motions(2, 16));
   const HandEyeResult r = SolveScaled(data.pairs);
