@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +18,7 @@
 #include "dds/dds.h"
 #include "fusecal_bytes.h"
 #include "runtime/channels.hpp"
+#include "runtime/dds/dds_envelope.hpp"
 #include "runtime/shared_memory.hpp"
 
 namespace fusecal {
@@ -77,39 +79,6 @@ struct DomainEntry {
 };
 std::mutex g_domains_mutex;
 std::map<uint32_t, DomainEntry> g_domains;
-
-// LCM channel <-> DDS topic name: letters, digits, '_' and '/' are kept, other bytes become _xHH.
-std::string TopicName(const std::string& channel) {
-  std::string topic;
-  for (unsigned char c : channel) {
-    if (std::isalnum(c) || c == '_' || c == '/') {
-      topic += static_cast<char>(c);
-    } else {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "_x%02X", c);
-      topic += escaped;
-    }
-  }
-  if (topic.empty() || std::isdigit(static_cast<unsigned char>(topic[0]))) topic = "_" + topic;
-  return topic;
-}
-
-std::string ChannelName(const std::string& topic) {
-  std::string name = topic;
-  if (!name.empty() && name[0] == '_' && name.size() > 1 && std::isdigit(static_cast<unsigned char>(name[1])))
-    name.erase(0, 1);
-  std::string channel;
-  for (size_t i = 0; i < name.size(); ++i) {
-    if (name[i] == '_' && i + 3 < name.size() && name[i + 1] == 'x' && std::isxdigit(static_cast<unsigned char>(name[i + 2])) &&
-        std::isxdigit(static_cast<unsigned char>(name[i + 3]))) {
-      channel += static_cast<char>(std::stoi(name.substr(i + 2, 2), nullptr, 16));
-      i += 3;
-    } else {
-      channel += name[i];
-    }
-  }
-  return channel;
-}
 
 bool IsPlainName(const std::string& channel) {
   return !channel.empty() && std::all_of(channel.begin(), channel.end(), [](unsigned char c) {
@@ -177,7 +146,7 @@ struct DdsBus::Impl {
   dds_qos_t* large_qos = nullptr;
   std::map<dds_entity_t, uint64_t> sent;                // by writer: the last sequence number written
   std::set<std::string> large_notice_given;             // channels whose large samples were announced
-  std::map<dds_instance_handle_t, uint64_t> last_seen;  // by remote writer: the last sequence number read
+  dds::SequenceGaps gaps;                               // by remote writer: the sequence numbers read
   std::atomic<uint64_t> dropped{0};
   std::map<std::string, std::shared_ptr<Reader>> readers;  // by channel
   std::vector<std::shared_ptr<Sub>> subs;
@@ -200,20 +169,10 @@ struct DdsBus::Impl {
 
   const dds_qos_t* QosFor(const std::string& channel) const { return IsBulkChannel(channel) ? bulk_qos : qos; }
 
-  // Sequence numbers count per writer from 1: a gap means samples were overwritten in a history (KEEP_LAST
-  // under overload) or dropped from a full shared-memory queue before this reader took them.
-  void CountGap(dds_instance_handle_t writer, uint64_t sequence) {
-    auto [it, first] = last_seen.emplace(writer, sequence);
-    if (!first) {
-      if (sequence > it->second + 1) dropped += sequence - it->second - 1;
-      it->second = std::max(it->second, sequence);
-    }
-  }
-
   dds_entity_t TopicLocked(const std::string& channel) {
     auto it = topics.find(channel);
     if (it != topics.end()) return it->second;
-    const std::string name = TopicName(channel);
+    const std::string name = dds::TopicName(channel);
     const dds_entity_t topic = dds_create_topic(participant, &fusecal_lcm_message_desc, name.c_str(), nullptr, nullptr);
     if (topic < 0)
       throw BusError("DDS: cannot create topic '" + name + "' for channel " + channel + " on " + url + ": " +
@@ -272,7 +231,7 @@ struct DdsBus::Impl {
         if (!infos[i].valid_data) continue;
         const auto* endpoint = static_cast<const dds_builtintopic_endpoint_t*>(samples[i]);
         if (endpoint->type_name && endpoint->topic_name && std::strcmp(endpoint->type_name, kTypeName) == 0)
-          channels.push_back(ChannelName(endpoint->topic_name));
+          channels.push_back(dds::ChannelName(endpoint->topic_name));
       }
       dds_return_loan(publications, samples, n);
       for (const auto& channel : channels) OnTopicLocked(channel);
@@ -307,7 +266,7 @@ struct DdsBus::Impl {
         for (int i = 0; i < n; ++i) {
           if (!infos[i].valid_data) continue;
           const auto* message = static_cast<const fusecal_lcm_message*>(samples[i]);
-          CountGap(infos[i].publication_handle, message->seq_number);
+          dropped += gaps.Count(infos[i].publication_handle, message->seq_number);
           const int64_t receive_utime = WallUtime();  // when this bus took it (LCM: when it was read)
           const RawMessage raw{reader->channel, message->data._buffer, message->data._length, receive_utime};
           for (const auto& sub : matching) {

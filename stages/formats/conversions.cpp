@@ -3,6 +3,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "formats/image_header.hpp"
+
 namespace fusecal {
 
 bool IsKnownImageEncoding(const std::string& e) {
@@ -26,6 +28,21 @@ cv::Mat DecodeRaw(const image_t& msg, int channels) {
   return view.clone();
 }
 
+// The largest compressed image decoded: 8192 x 8192 (192 MB as BGR); the cameras here give 2-33 Mpixel.
+constexpr int64_t kMaxCompressedImagePixels = int64_t(8192) * 8192;
+
+// cv::imdecode decodes whatever format it recognises in the bytes and allocates the size their header
+// declares (found by fuzzing: a 1 KB JPEG in a STATION made it allocate 2.3 GB). So the bytes must be
+// of the format `encoding` names, with a size in bounds, before they reach it.
+void CheckCompressedImage(const image_t& msg) {
+  if (msg.data.empty()) throw ConversionError(msg.encoding + " image has no data");
+  const auto size = CompressedImageSize(msg.data, msg.encoding);
+  if (!size) throw ConversionError("corrupt " + msg.encoding + " image data (no valid " + msg.encoding + " header)");
+  if (int64_t(size->width) * size->height > kMaxCompressedImagePixels)
+    throw ConversionError(msg.encoding + " image of " + std::to_string(size->width) + "x" +
+                          std::to_string(size->height) + " pixels is larger than 8192x8192");
+}
+
 }  // namespace
 
 cv::Mat ImageToMat(const image_t& msg) {
@@ -37,7 +54,7 @@ cv::Mat ImageToMat(const image_t& msg) {
     return bgr;
   }
   if (msg.encoding == "jpeg" || msg.encoding == "png") {
-    if (msg.data.empty()) throw ConversionError(msg.encoding + " image has no data");
+    CheckCompressedImage(msg);
     cv::Mat decoded = cv::imdecode(msg.data, cv::IMREAD_UNCHANGED);
     if (decoded.empty()) throw ConversionError("corrupt " + msg.encoding + " image data");
     if (decoded.depth() != CV_8U) decoded.convertTo(decoded, CV_8U, 1.0 / 256.0);
@@ -57,7 +74,7 @@ int64_t PeekUtime(const uint8_t* data, size_t size) {
 
 cv::Mat ImageToMatReduced(const image_t& msg, int min_width) {
   if (msg.encoding != "jpeg") return ImageToMat(msg);
-  if (msg.data.empty()) throw ConversionError("jpeg image has no data");
+  CheckCompressedImage(msg);
   int flag = cv::IMREAD_GRAYSCALE;
   if (msg.width >= 8 * min_width) flag = cv::IMREAD_REDUCED_GRAYSCALE_8;
   else if (msg.width >= 4 * min_width) flag = cv::IMREAD_REDUCED_GRAYSCALE_4;

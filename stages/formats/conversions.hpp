@@ -25,7 +25,8 @@ class ConversionError : public std::runtime_error {
 bool IsKnownImageEncoding(const std::string& encoding);
 
 // Decodes an image message to an 8-bit cv::Mat: CV_8UC1 for mono8, CV_8UC3 in BGR order for colour
-// (rgb8 is reordered), and whatever the file holds (grey or BGR) for jpeg/png.
+// (rgb8 is reordered), and whatever the file holds (grey or BGR) for jpeg/png; jpeg/png data must be of
+// that format (checked in its header) and at most 8192x8192 pixels.
 cv::Mat ImageToMat(const image_t& msg);
 // The utime of an LCM-encoded fusecal message without decoding it: every fusecal type begins with
 // `int64_t utime`, right after LCM's 8-byte fingerprint (big-endian). -1 when the buffer is too short.

@@ -49,29 +49,11 @@ Eigen::Matrix3d Matrix3(const std::vector<double>& v) {
   return M;
 }
 
-std::vector<int64_t> ReadTimestamps(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  std::vector<int64_t> times;
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty()) continue;
-    try {
-      times.push_back(ParseKittiTimestamp(line));
-    } catch (const std::exception& e) {
-      throw std::runtime_error(path + ": line " + std::to_string(number) + ": " + e.what());
-    }
-  }
-  return times;
-}
-
 // Frame stem -> (file, time); timestamps.txt has one line per data file, in file order.
 std::map<std::string, std::pair<std::string, int64_t>> IndexSensor(const std::string& sensor_dir,
                                                                    const std::vector<std::string>& extensions) {
   const auto files = ListFiles(sensor_dir + "/data", extensions);
-  const auto times = ReadTimestamps(sensor_dir + "/timestamps.txt");
+  const auto times = ReadKittiTimestamps(sensor_dir + "/timestamps.txt");
   if (files.size() != times.size())
     throw std::runtime_error(sensor_dir + "/timestamps.txt has " + std::to_string(times.size()) +
                              " lines for " + std::to_string(files.size()) + " data files");
@@ -89,11 +71,34 @@ int64_t ParseKittiTimestamp(const std::string& text) {
   if (std::sscanf(text.c_str(), "%d-%d-%d %d:%d:%lf%c", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour,
                   &tm.tm_min, &seconds, &extra) < 6)
     throw std::runtime_error("not a KITTI timestamp: '" + text + "'");
+  // Out-of-range fields would overflow the microseconds (found by fuzzing: year 20200020).
+  if (tm.tm_year < 1900 || tm.tm_year > 9999 || tm.tm_mon < 1 || tm.tm_mon > 12 || tm.tm_mday < 1 ||
+      tm.tm_mday > 31 || tm.tm_hour < 0 || tm.tm_hour > 23 || tm.tm_min < 0 || tm.tm_min > 59 ||
+      !(seconds >= 0 && seconds < 61))
+    throw std::runtime_error("not a KITTI timestamp: '" + text + "' (a field is out of range)");
   tm.tm_year -= 1900;
   tm.tm_mon -= 1;
   tm.tm_sec = 0;
   const int64_t whole = static_cast<int64_t>(timegm(&tm));
   return whole * 1000000 + static_cast<int64_t>(std::llround(seconds * 1e6));
+}
+
+std::vector<int64_t> ReadKittiTimestamps(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  std::vector<int64_t> times;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty()) continue;
+    try {
+      times.push_back(ParseKittiTimestamp(line));
+    } catch (const std::exception& e) {
+      throw std::runtime_error(path + ": line " + std::to_string(number) + ": " + e.what());
+    }
+  }
+  return times;
 }
 
 KittiCalibration ReadKittiCalibration(const std::string& dir) {

@@ -2,7 +2,9 @@
 // calib_velo_to_cam.txt and calib_cam_to_cam.txt.
 #pragma once
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "foundation/camera_model.hpp"
 #include "foundation/se3.hpp"
@@ -20,6 +22,10 @@ KittiCalibration ReadKittiCalibration(const std::string& dir);
 
 // "2011-09-26 13:02:25.964389445" -> microseconds since the epoch (UTC). Throws on bad text.
 int64_t ParseKittiTimestamp(const std::string& text);
+
+// A timestamps.txt: one ParseKittiTimestamp line per data file (empty lines skipped). Throws
+// std::runtime_error naming the file and line.
+std::vector<int64_t> ReadKittiTimestamps(const std::string& path);
 
 struct KittiImportOptions {
   int station_every = 0;  // 0: no stations; N: a STATION every N frames ("every:N")

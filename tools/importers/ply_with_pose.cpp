@@ -1,5 +1,7 @@
 // A PLY reader for scans whose header carries a pose ("matrix" lines), which general PLY readers
 // reject. Vertex element only; ascii, binary_little_endian and binary_big_endian.
+#include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -40,6 +42,15 @@ double Decode(const uint8_t* p, const std::string& type, bool swap) {
   uint32_t v;
   std::memcpy(&v, b, 4);
   return v;
+}
+
+// Bytes from the read position to the end of the file: more vertices than that cannot be there.
+int64_t BytesLeft(std::ifstream& in) {
+  const std::streamoff here = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::streamoff end = in.tellg();
+  in.seekg(here);
+  return here < 0 || end < here ? 0 : int64_t(end - here);
 }
 
 }  // namespace
@@ -107,7 +118,8 @@ PosedScan ReadPlyWithPose(const std::string& path) {
     for (int c = 0; c < 4; ++c) M.col(c) = columns[c];
     scan.pose = M;
   }
-  scan.cloud.points.reserve(vertices);
+  // Not the declared count itself (found by fuzzing: "element vertex 666...6" reserved terabytes).
+  scan.cloud.points.reserve(static_cast<size_t>(std::min(vertices, BytesLeft(in))));
   std::vector<double> values(props.size());
   if (format == "ascii") {
     for (int64_t v = 0; v < vertices; ++v) {

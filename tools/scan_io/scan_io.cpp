@@ -14,6 +14,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "scan_io/pcl_input_checks.hpp"
+
 namespace fusecal {
 namespace {
 
@@ -98,6 +100,15 @@ size_t FieldSize(uint8_t datatype) {
   }
 }
 
+// A beam index of any field type; one that no int16 holds (or NaN) is corrupt (converting it would be
+// undefined behaviour: found by fuzzing, a float ring of 2.6e20).
+int16_t RingIndex(const std::string& path, double value, size_t point) {
+  if (!(value >= std::numeric_limits<int16_t>::min() && value <= std::numeric_limits<int16_t>::max()))
+    Fail(path, "corrupt: the ring of point " + std::to_string(point) + " (" + std::to_string(value) +
+                   ") is not a beam index");
+  return static_cast<int16_t>(value);
+}
+
 PointCloud FromPcl(const std::string& path, const pcl::PCLPointCloud2& c) {
   const pcl::PCLPointField* x = FindField(c, {"x"});
   const pcl::PCLPointField* y = FindField(c, {"y"});
@@ -123,107 +134,16 @@ PointCloud FromPcl(const std::string& path, const pcl::PCLPointCloud2& c) {
                                       float(ReadValue(p + y->offset, y->datatype)),
                                       float(ReadValue(p + z->offset, z->datatype)));
     if (intensity) cloud.intensity[i] = float(ReadValue(p + intensity->offset, intensity->datatype));
-    if (ring) cloud.ring[i] = static_cast<int16_t>(ReadValue(p + ring->offset, ring->datatype));
+    if (ring) cloud.ring[i] = RingIndex(path, ReadValue(p + ring->offset, ring->datatype), i);
     if (time) cloud.time_offset_s[i] = float(time_scale * ReadValue(p + time->offset, time->datatype));
   }
   return cloud;
 }
 
-// PCL's PCD reader crashes on some malformed headers (a file that is not a PCD at all), so the header is
-// checked here first: known keys, consistent FIELDS/SIZE/TYPE/COUNT, WIDTH * HEIGHT = POINTS, for binary
-// data a file long enough for every point, for ascii data every point complete. Returns the number of
-// points.
-size_t CheckPcdHeader(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) Fail(path, "cannot be opened");
-  std::vector<std::string> fields, sizes, types, counts;
-  long long width = -1, height = 1, points = -1;
-  std::string data, line;
-  for (int n = 0; data.empty(); ++n) {
-    if (n > 200 || !std::getline(in, line)) Fail(path, "corrupt .pcd: no DATA line in the header");
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream words(line);
-    std::string key;
-    words >> key;
-    std::vector<std::string> values;
-    for (std::string v; words >> v;) values.push_back(v);
-    auto number = [&](long long* out) {
-      try {
-        if (values.size() != 1) throw std::invalid_argument(key);
-        size_t used = 0;
-        *out = std::stoll(values[0], &used);
-        if (used != values[0].size() || *out < 0) throw std::invalid_argument(key);
-      } catch (const std::exception&) {
-        Fail(path, "corrupt .pcd header: bad " + key + " line '" + line + "'");
-      }
-    };
-    if (key == "VERSION" || key == "VIEWPOINT") continue;
-    if (key == "FIELDS") fields = values;
-    else if (key == "SIZE") sizes = values;
-    else if (key == "TYPE") types = values;
-    else if (key == "COUNT") counts = values;
-    else if (key == "WIDTH") number(&width);
-    else if (key == "HEIGHT") number(&height);
-    else if (key == "POINTS") number(&points);
-    else if (key == "DATA") data = values.empty() ? "?" : values[0];
-    else Fail(path, "corrupt .pcd header: unknown line '" + line + "'");
-  }
-  if (fields.empty() || sizes.size() != fields.size() || types.size() != fields.size() ||
-      (!counts.empty() && counts.size() != fields.size()))
-    Fail(path, "corrupt .pcd header: FIELDS, SIZE, TYPE and COUNT do not match");
-  if (points < 0) points = width * height;
-  if (width < 0 || width * height != points) Fail(path, "corrupt .pcd header: WIDTH x HEIGHT is not POINTS");
-  size_t point_bytes = 0;
-  for (size_t i = 0; i < fields.size(); ++i) {
-    const std::string& size = sizes[i];
-    const std::string& type = types[i];
-    const long long count = counts.empty() ? 1 : std::atoll(counts[i].c_str());
-    if ((size != "1" && size != "2" && size != "4" && size != "8") || (type != "I" && type != "U" && type != "F") ||
-        (type == "F" && size != "4" && size != "8") || count < 1 || count > 100000)
-      Fail(path, "corrupt .pcd header: field '" + fields[i] + "' has SIZE " + size + " TYPE " + type);
-    point_bytes += size_t(std::stoi(size)) * size_t(count);
-  }
-  std::error_code ec;
-  const auto file_bytes = static_cast<unsigned long long>(std::filesystem::file_size(path, ec));
-  const auto header_bytes = static_cast<unsigned long long>(in.tellg());
-  if (data == "binary") {
-    if (header_bytes + (unsigned long long)points * point_bytes > file_bytes)
-      Fail(path, "truncated .pcd: " + std::to_string(file_bytes - header_bytes) + " bytes of binary data for " +
-                     std::to_string(points) + " points of " + std::to_string(point_bytes) + " bytes");
-  } else if (data == "binary_compressed") {
-    uint32_t sizes_u32[2] = {0, 0};
-    if (!in.read(reinterpret_cast<char*>(sizes_u32), sizeof(sizes_u32)) ||
-        header_bytes + 8 + sizes_u32[0] > file_bytes)
-      Fail(path, "truncated .pcd: compressed data shorter than its header says");
-    if (sizes_u32[1] != (unsigned long long)points * point_bytes)
-      Fail(path, "corrupt .pcd: uncompressed size does not match POINTS");
-  } else if (data == "ascii") {
-    // PCL accepts a short last line ("possibly malformed"); a truncated file must not pass.
-    size_t values_per_point = 0;
-    for (size_t i = 0; i < fields.size(); ++i) values_per_point += counts.empty() ? 1 : std::stoul(counts[i]);
-    long long rows = 0;
-    while (std::getline(in, line)) {
-      std::istringstream words(line);
-      size_t n = 0;
-      for (std::string v; words >> v;) ++n;
-      if (n == 0) continue;
-      if (n != values_per_point)
-        Fail(path, "corrupt or truncated .pcd: point " + std::to_string(rows + 1) + " has " + std::to_string(n) +
-                       " values instead of " + std::to_string(values_per_point));
-      ++rows;
-    }
-    if (rows != points)
-      Fail(path, "truncated .pcd: " + std::to_string(rows) + " of " + std::to_string(points) + " points");
-  } else {
-    Fail(path, "corrupt .pcd header: DATA '" + data + "' (expected ascii, binary or binary_compressed)");
-  }
-  return static_cast<size_t>(points);
-}
-
 PointCloud ReadWithPcl(const std::string& path, bool ply) {
   RequireRegularFile(path);
-  if (!ply && CheckPcdHeader(path) == 0) return PointCloud();
+  // PCL's readers trust their input (pcl_input_checks.hpp): the file is checked first.
+  if ((ply ? scan_checks::CheckPly(path) : scan_checks::CheckPcd(path)) == 0) return PointCloud();
   pcl::PCLPointCloud2 c;
   int status = -1;
   try {
