@@ -19,10 +19,11 @@ cv::Mat DecodeRaw(const image_t& msg, int channels) {
                           "x" + std::to_string(msg.height) + ")");
   const int64_t row_bytes = int64_t(msg.width) * channels;
   const int64_t step = msg.step > 0 ? msg.step : row_bytes;
-  if (step < row_bytes || int64_t(msg.data.size()) < step * msg.height)
+  // Divided, not multiplied: step x height can exceed 64 bits (found by fuzzing: 5105605947 x 1869479942).
+  if (step < row_bytes || int64_t(msg.data.size()) / step < msg.height)
     throw ConversionError("image " + std::to_string(msg.width) + "x" + std::to_string(msg.height) + " " +
-                          msg.encoding + " needs " + std::to_string(step * msg.height) + " bytes, has " +
-                          std::to_string(msg.data.size()));
+                          msg.encoding + " needs " + std::to_string(msg.height) + " rows of " + std::to_string(step) +
+                          " bytes, has " + std::to_string(msg.data.size()) + " bytes");
   const cv::Mat view(msg.height, msg.width, CV_8UC(channels),
                      const_cast<uint8_t*>(msg.data.data()), static_cast<size_t>(step));
   return view.clone();

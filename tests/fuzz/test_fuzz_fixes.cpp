@@ -122,6 +122,20 @@ TEST(CompressedImages, AHugeDeclaredSizeOrAnotherFormatIsRejected) {
   EXPECT_THROW(ImageToMat(msg), ConversionError);
 }
 
+TEST(RawImages, ASizeWhoseBytesOverflow64BitsIsRejected) {
+  image_t msg{};
+  msg.encoding = "bgr8";
+  msg.width = 2000000000;
+  msg.height = 2000000000;  // 3 x width x height bytes: more than 2^63
+  msg.data.assign(16, 0);
+  try {
+    ImageToMat(msg);
+    FAIL() << "a 2e9 x 2e9 image of 16 bytes was accepted";
+  } catch (const ConversionError& e) {
+    EXPECT_NE(std::string(e.what()).find("rows of 6000000000 bytes"), std::string::npos) << e.what();
+  }
+}
+
 TEST(KittiTimestamps, OutOfRangeFieldsAreRejectedNotOverflowed) {
   EXPECT_EQ(ParseKittiTimestamp("1970-01-01 00:00:01.500000000"), 1500000);
   EXPECT_EQ(ParseKittiTimestamp("2011-09-26 13:02:25.964389445"), 1317042145964389);

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "ishikawa.hpp"
@@ -42,6 +43,34 @@ double Decode(const uint8_t* p, const std::string& type, bool swap) {
   uint32_t v;
   std::memcpy(&v, b, 4);
   return v;
+}
+
+// Indices of the vertex properties read (intensity: -1 when absent).
+struct VertexColumns {
+  int x = -1, y = -1, z = -1, intensity = -1;
+};
+
+VertexColumns FindVertexColumns(const std::string& path, const std::vector<Property>& props) {
+  VertexColumns c;
+  for (size_t k = 0; k < props.size(); ++k) {
+    const auto& n = props[k].name;
+    if (n == "x") c.x = int(k);
+    if (n == "y") c.y = int(k);
+    if (n == "z") c.z = int(k);
+    if (c.intensity < 0 && (n == "intensity" || n == "confidence" || n == "reflectance" || n == "scalar_intensity"))
+      c.intensity = int(k);
+  }
+  if (c.x < 0 || c.y < 0 || c.z < 0) throw std::runtime_error(path + ": vertices need x, y and z");
+  return c;
+}
+
+// The pose of the "matrix" lines (each a column), none when there are none.
+std::optional<Eigen::Matrix4d> PoseFromColumns(const std::string& path, const std::vector<Eigen::Vector4d>& columns) {
+  if (columns.empty()) return std::nullopt;
+  if (columns.size() != 4) throw std::runtime_error(path + ": needs 4 'matrix' lines, has " + std::to_string(columns.size()));
+  Eigen::Matrix4d M;
+  for (int c = 0; c < 4; ++c) M.col(c) = columns[c];
+  return M;
 }
 
 // Bytes from the read position to the end of the file: more vertices than that cannot be there.
@@ -101,23 +130,9 @@ PosedScan ReadPlyWithPose(const std::string& path) {
   }
   if (!in) throw std::runtime_error(path + ": header has no end_header");
   if (vertices < 0) throw std::runtime_error(path + ": no vertex element");
-  int ix = -1, iy = -1, iz = -1, ii = -1;
-  for (size_t k = 0; k < props.size(); ++k) {
-    const auto& n = props[k].name;
-    if (n == "x") ix = int(k);
-    if (n == "y") iy = int(k);
-    if (n == "z") iz = int(k);
-    if (ii < 0 && (n == "intensity" || n == "confidence" || n == "reflectance" || n == "scalar_intensity")) ii = int(k);
-  }
-  if (ix < 0 || iy < 0 || iz < 0) throw std::runtime_error(path + ": vertices need x, y and z");
-
+  const auto [ix, iy, iz, ii] = FindVertexColumns(path, props);
   PosedScan scan;
-  if (!columns.empty()) {
-    if (columns.size() != 4) throw std::runtime_error(path + ": needs 4 'matrix' lines, has " + std::to_string(columns.size()));
-    Eigen::Matrix4d M;
-    for (int c = 0; c < 4; ++c) M.col(c) = columns[c];
-    scan.pose = M;
-  }
+  scan.pose = PoseFromColumns(path, columns);
   // Not the declared count itself (found by fuzzing: "element vertex 666...6" reserved terabytes).
   scan.cloud.points.reserve(static_cast<size_t>(std::min(vertices, BytesLeft(in))));
   std::vector<double> values(props.size());
