@@ -79,6 +79,10 @@ class Bus {
   // reader queue). 0 where the transport cannot tell (LCM). Stages report it in STATUS as bus_dropped.
   virtual uint64_t dropped_messages() const { return 0; }
 
+  // Datagrams this bus sent again because a subscriber asked (udpm://'s reliable layer; 0 elsewhere).
+  // Stages report it in STATUS as bus_resent: what the guarantee cost.
+  virtual uint64_t resent_datagrams() const { return 0; }
+
   template <typename M>
   void Publish(const std::string& channel, const M& message) {
     std::vector<uint8_t> buffer(message.getEncodedSize());

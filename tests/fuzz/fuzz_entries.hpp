@@ -35,6 +35,10 @@ int FuzzOneGroundTruthLog(const uint8_t* data, size_t size);
 // and sequence number handled as DdsBus does.
 int FuzzOneDdsEnvelope(const uint8_t* data, size_t size);
 
+// udpm://'s reliable layer (entries_reliable.cpp): a sequence of received datagrams (fragments and
+// control messages) through one receiver and one publisher.
+int FuzzOneReliableUdpm(const uint8_t* data, size_t size);
+
 // YAML (entries_yaml.cpp): the pipeline config with every stage's settings, a simulator scenario, the
 // result file, the camera file.
 int FuzzOnePipelineConfig(const uint8_t* data, size_t size);

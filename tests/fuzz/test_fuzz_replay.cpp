@@ -36,6 +36,7 @@ const std::map<std::string, Entry>& Entries() {
 #ifdef FUSECAL_WITH_DDS
       {"dds_envelope", FuzzOneDdsEnvelope},
 #endif
+      {"reliable_udpm", FuzzOneReliableUdpm},
       {"pipeline_config", FuzzOnePipelineConfig},
       {"scenario", FuzzOneScenario},
       {"result_file", FuzzOneResultFile},

@@ -43,7 +43,9 @@ struct RunReport {
   int restarts = 0;
   int roudi_restarts = 0;  // shared memory only: times RouDi was started again
   bool used_dds = false;
-  double bus_dropped = 0;  // messages the buses of the stages and the coordinator know they lost (DDS)
+  bool bus_counts_losses = false;  // DDS, and udpm:// with its reliable layer
+  double bus_dropped = 0;  // messages the buses of the stages and the coordinator know they lost
+  double bus_resent = 0;   // datagrams they sent again when asked (udpm://'s reliable layer)
   double total_seconds = 0;
   // Where the time went: starting the stages, playing the log, the stages' work after its end,
   // stopping them and writing the outputs.
