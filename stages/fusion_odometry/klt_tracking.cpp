@@ -43,6 +43,7 @@ void KltTracker::Track(const std::vector<cv::Point2f>& pixels_i, const std::vect
   cv::calcOpticalFlowPyrLK(pyramid_i_, pyramid_j_, from, to, status_forward, error, window,
                            settings_.pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW,
                            settings_.min_eigen_threshold);
+  RefineAtFullResolution(from, &to);
   // Forward-backward check: track j back into i, starting at the original pixel.
   back = from;
   cv::calcOpticalFlowPyrLK(pyramid_j_, pyramid_i_, to, back, status_backward, error, window,
@@ -66,6 +67,24 @@ void KltTracker::Track(const std::vector<cv::Point2f>& pixels_i, const std::vect
     if (!(p.x >= x_lo && p.x <= x_hi && p.y >= y_lo && p.y <= y_hi)) continue;
     (*pixels_j)[k] = p;
     (*ok)[k] = 1;
+  }
+}
+
+void KltTracker::RefineAtFullResolution(const std::vector<cv::Point2f>& from, std::vector<cv::Point2f>* to) const {
+  if (settings_.refine_window_px <= 0 || from.empty()) return;
+  const cv::Size window(settings_.refine_window_px, settings_.refine_window_px);
+  const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, settings_.max_iterations,
+                                  settings_.epsilon_px);
+  std::vector<cv::Point2f> refined = *to;
+  std::vector<unsigned char> status;
+  std::vector<float> error;
+  cv::calcOpticalFlowPyrLK(pyramid_i_, pyramid_j_, from, refined, status, error, window, 0, criteria,
+                           cv::OPTFLOW_USE_INITIAL_FLOW, settings_.min_eigen_threshold);
+  // Where the small window cannot track (too little texture in it), or wanders off (more than a pixel:
+  // it locked onto something else), the wide window's track stands.
+  for (size_t k = 0; k < from.size(); ++k) {
+    const cv::Point2f moved = refined[k] - (*to)[k];
+    if (status[k] && moved.dot(moved) <= 1.0f) (*to)[k] = refined[k];
   }
 }
 

@@ -30,6 +30,8 @@ class KltTracker {
   int padding() const { return pad_; }
 
  private:
+  // The second, full-resolution pass with settings.refine_window_px (settings.hpp says why).
+  void RefineAtFullResolution(const std::vector<cv::Point2f>& from, std::vector<cv::Point2f>* to) const;
   TrackingSettings settings_;
   bool wrap_;
   int border_px_, width_, height_, pad_ = 0;
