@@ -15,11 +15,7 @@
 #include <thread>
 #include <vector>
 
-#include "iceoryx_binding_c/chunk.h"
-#include "iceoryx_binding_c/publisher.h"
-#include "iceoryx_binding_c/service_discovery.h"
-#include "iceoryx_binding_c/subscriber.h"
-#include "iceoryx_binding_c/wait_set.h"
+#include "runtime/iox/iceoryx_c.hpp"
 #include "iceoryx_posh/mepoo/chunk_header.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/iox/iox_chunk.hpp"

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <mutex>
 
-#include "iceoryx_binding_c/runtime.h"
+#include "runtime/iox/iceoryx_c.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/shared_memory.hpp"
 
