@@ -8,6 +8,7 @@
 
 extern "C" {
 #include "iceoryx_binding_c/chunk.h"
+#include "iceoryx_binding_c/log.h"
 #include "iceoryx_binding_c/publisher.h"
 #include "iceoryx_binding_c/runtime.h"
 #include "iceoryx_binding_c/service_discovery.h"

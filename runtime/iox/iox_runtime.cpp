@@ -50,6 +50,9 @@ void EnsureRuntime(const std::string& what) {
     return;
   }
   g_roudi_inode = RoudiInode();
+  // iceoryx logs every registration and cleanup at Debug/Verbose on stderr (the stage logs); warnings
+  // and errors are enough.
+  iox_set_loglevel(Iceoryx_LogLevel_Warn);
   iox_runtime_init(RuntimeName().c_str());
   g_registered = true;
 }
