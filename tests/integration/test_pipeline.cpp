@@ -152,6 +152,45 @@ TEST_F(Pipeline, RoudiKilledMidRunComesBackWithTheStagesAndTheAnswerStays) {
 }
 #endif
 
+#ifdef FUSECAL_WITH_IOX
+// Over iox:// (iceoryx zero-copy): `fusecal run` starts RouDi, keeps itself on LCM multicast and bridges
+// it to the stages (runtime/shm_transport.hpp); RouDi is stopped at the end.
+TEST_F(Pipeline, SeparateProcessesOverIoxAgreeWithCalibrate) {
+  const auto run = RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus 'iox://' --out " + Temp("run-iox") +
+                              " 2>&1");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("shared memory: started iox-roudi"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("bridged to the stages' iox://"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("messages lost by the bus: 0"), std::string::npos) << run.output;
+  EXPECT_FALSE(shm::RoudiRunning()) << "RouDi outlived the run";
+  ExpectSameAnswerAsCalibrate(Temp("run-iox"), run.output);
+}
+
+// RouDi killed in the middle of an iox:// run: the stages and the bridge are cut off from the new RouDi;
+// the supervisor starts RouDi and all of them again, and the answer stays the same.
+TEST_F(Pipeline, RoudiKilledMidIoxRunComesBackWithTheStagesAndTheAnswerStays) {
+  const std::string out = Temp("roudi-killed-iox");
+  const std::string command = kFusecal + " run --log " + log_ + " --speed 0 --bus 'iox://' --out " + out;
+  const pid_t pid = StartInBackground(command, out + ".txt");
+  ASSERT_GE(pid, 0);
+  bool killed = false;
+  for (int i = 0; i < 400 && !killed; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (ReadAll(out + ".txt").find("motions lidar 1") == std::string::npos) continue;
+    killed = RunCommand("pkill -9 -x iox-roudi").exit_code == 0;
+  }
+  ASSERT_TRUE(killed) << "RouDi or the first motion never appeared:\n" << ReadAll(out + ".txt");
+  int status = 0;
+  waitpid(pid, &status, 0);
+  const std::string output = ReadAll(out + ".txt");
+  EXPECT_NE(output.find("iox-roudi exited"), std::string::npos) << output;
+  EXPECT_NE(output.find("every stage restarted after RouDi"), std::string::npos) << output;
+  EXPECT_NE(output.find("RouDi restarts: 1"), std::string::npos) << output;
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+  ExpectSameAnswerAsCalibrate(out, output);
+}
+#endif
+
 TEST_F(Pipeline, StageKilledWithSigkillIsRestartedAndTheAnswerStays) {
   const std::string out = Temp("killed");
   // Its own port: the stage processes are found by it ("[f]" keeps pgrep from matching itself).

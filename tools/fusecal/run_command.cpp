@@ -76,7 +76,7 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
       std::cout << StageBusyText(report.stage_counters);
       std::cout << "; stage restarts: " << report.restarts;
       if (report.roudi_restarts > 0) std::cout << "; RouDi restarts: " << report.roudi_restarts;
-      if (report.used_dds) std::cout << "; messages lost by the bus: " << report.bus_dropped;
+      if (report.bus_counts_losses) std::cout << "; messages lost by the bus: " << report.bus_dropped;
       std::cout << "\n" << StageTableText(report.stage_counters, report.span_s) << LatencyText(report.latencies);
       *exit_code = report.outputs.final_result.status == "converged" ? 0 : 1;
     } catch (const std::exception& e) {

@@ -42,8 +42,8 @@ struct RunReport {
   CalibrationOutputs outputs;
   int restarts = 0;
   int roudi_restarts = 0;  // shared memory only: times RouDi was started again
-  bool used_dds = false;
-  double bus_dropped = 0;  // messages the buses of the stages and the coordinator know they lost (DDS)
+  bool bus_counts_losses = false;  // dds:// and iox:// count what they lose (LCM cannot tell)
+  double bus_dropped = 0;  // messages the buses of the stages and the coordinator know they lost (DDS, iox)
   double total_seconds = 0;
   // Where the time went: starting the stages, playing the log, the stages' work after its end,
   // stopping them and writing the outputs.
