@@ -18,6 +18,7 @@
 #include "fusecal/image_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
+#include "runtime/bus_bridge.hpp"
 #include "runtime/iox/iox_chunk.hpp"
 #include "runtime/shared_memory.hpp"
 #include "sample_messages.hpp"
@@ -303,6 +304,40 @@ TEST(IoxBus, CrossProcessSmallAndSixMegabyteRoundTrip) {
   std::printf("6 MB round trip between two processes over iox:// (encode, publish, decode, both ways): median "
               "%.1f ms, max %.1f ms\n",
               times_ms[2], times_ms[4]);
+}
+
+// What `fusecal run` puts between its coordinator (here memq://, which, like LCM multicast, hands a bus its
+// own messages back) and the stages' iox:// bus: each message crosses once, both ways, and nothing echoes.
+TEST(BusBridge, ForwardsBothWaysOnceWithoutEchoes) {
+  auto coordinator = MakeBus("memq://");
+  auto bridge_side = MakeBus(kUrl + "&self=0");
+  auto stage = MakeBus(kUrl);
+  BusBridge bridge(*coordinator, *bridge_side);
+  int stations_at_stage = 0, status_at_coordinator = 0, status_at_stage = 0, other_at_stage = 0;
+  auto s1 = stage->SubscribeRaw("STATION", [&](const RawMessage&) { ++stations_at_stage; });
+  auto s2 = stage->SubscribeRaw("STATUS", [&](const RawMessage&) { ++status_at_stage; });
+  auto s3 = stage->SubscribeRaw("CUSTOM_X", [&](const RawMessage&) { ++other_at_stage; });
+  auto c1 = coordinator->SubscribeRaw("STATUS", [&](const RawMessage&) { ++status_at_coordinator; });
+  coordinator->PublishRaw("STATION", "station", 7);
+  coordinator->PublishRaw("CUSTOM_X", "x", 1);  // not a pipeline channel: the pattern forwards it
+  stage->PublishRaw("STATUS", "status", 6);
+  const auto end = Clock::now() + std::chrono::seconds(3);
+  while (Clock::now() < end && (stations_at_stage < 1 || status_at_coordinator < 1 || other_at_stage < 1)) {
+    bridge.Pump(20);
+    stage->Handle(5);
+    coordinator->Handle(5);
+  }
+  for (int i = 0; i < 20; ++i) {  // time for any echo to show
+    bridge.Pump(10);
+    stage->Handle(5);
+    coordinator->Handle(5);
+  }
+  EXPECT_EQ(stations_at_stage, 1);
+  EXPECT_EQ(other_at_stage, 1);
+  EXPECT_EQ(status_at_coordinator, 1);
+  EXPECT_EQ(status_at_stage, 1) << "the stage's own STATUS came back through the bridge";
+  EXPECT_EQ(bridge.forwarded_to_stages(), 2u);
+  EXPECT_EQ(bridge.forwarded_to_coordinator(), 1u);
 }
 
 #else
