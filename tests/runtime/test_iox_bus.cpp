@@ -21,6 +21,7 @@
 #include "runtime/bus_bridge.hpp"
 #include "runtime/iox/iox_chunk.hpp"
 #include "runtime/shared_memory.hpp"
+#include "process_utils.hpp"
 #include "sample_messages.hpp"
 
 namespace fusecal {
@@ -351,6 +352,19 @@ TEST(IoxBus, WithoutRoudiFailsFastWithAClearError) {
     EXPECT_NE(std::string(e.what()).find("no iceoryx RouDi is running"), std::string::npos) << e.what();
   }
   EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 1.0);
+}
+
+// `fusecal doctor --bus 'iox://'` checks the path itself: with no RouDi running it starts one for the
+// check, sends 1 MB round it, and leaves no RouDi behind.
+TEST(IoxDoctor, ChecksTheSharedMemoryPathOverARoudiOfItsOwn) {
+  ASSERT_TRUE(shm::WaitUntilRoudiGone()) << "a RouDi is running on this machine; stop it to run this test";
+  const auto doctor = testing_utils::RunCommand(std::string(FUSECAL_BIN) + " doctor --bus 'iox://' 2>&1");
+  EXPECT_NE(doctor.output.find("iceoryx RouDi: "), std::string::npos) << doctor.output;
+  EXPECT_NE(doctor.output.find("coordinator bus round trip"), std::string::npos) << doctor.output;
+  EXPECT_NE(doctor.output.find("iox:// round trip: a 1 MB message went round iox://?max="), std::string::npos)
+      << doctor.output;
+  EXPECT_NE(doctor.output.find("over a RouDi started for this check"), std::string::npos) << doctor.output;
+  EXPECT_TRUE(shm::WaitUntilRoudiGone(10)) << "the doctor's RouDi outlived it";
 }
 #endif
 
