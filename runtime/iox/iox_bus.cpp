@@ -356,12 +356,17 @@ Subscription IoxBus::SubscribeRaw(const std::string& channel, RawHandler handler
     }
   }
   sub->handler = std::move(handler);
+  std::vector<std::string> published;  // this bus's own channels (a pattern may want them)
+  if (!sub->plain) {
+    std::lock_guard<std::mutex> lock(d.publish_mutex);  // (taken before `mutex`, as in PublishRaw)
+    for (const auto& [name, writer] : d.writers) published.push_back(name);
+  }
   {
     std::lock_guard<std::mutex> lock(d.mutex);
     if (sub->plain) d.EnsureReaderLocked(channel);  // (throws before the sub is registered)
     d.subs.push_back(sub);
     if (!sub->plain) {
-      for (const auto& [name, writer] : d.writers) d.OnChannelLocked(name);
+      for (const auto& name : published) d.OnChannelLocked(name);
       d.DiscoverLocked();
     }
   }

@@ -36,6 +36,9 @@ const std::map<std::string, Entry>& Entries() {
 #ifdef FUSECAL_WITH_DDS
       {"dds_envelope", FuzzOneDdsEnvelope},
 #endif
+#ifdef FUSECAL_WITH_IOX
+      {"iox_chunk", FuzzOneIoxChunk},
+#endif
       {"pipeline_config", FuzzOnePipelineConfig},
       {"scenario", FuzzOneScenario},
       {"result_file", FuzzOneResultFile},
@@ -102,6 +105,9 @@ TEST(FuzzCorpus, EveryFolderBelongsToATarget) {
   for (const std::string& name : folders) {
 #ifndef FUSECAL_WITH_DDS
     if (name == "dds_envelope") continue;  // built only with Cyclone DDS
+#endif
+#ifndef FUSECAL_WITH_IOX
+    if (name == "iox_chunk") continue;  // built only with iceoryx
 #endif
     EXPECT_TRUE(Entries().count(name)) << "tests/fuzz: folder '" << name << "' is no fuzz target";
   }
