@@ -317,7 +317,13 @@ void IoxBus::PublishRaw(const std::string& channel, const void* data, size_t siz
                    " is larger than RouDi's pools carry (max=" + std::to_string(d.max_message) + " bytes on " + d.url +
                    "; raise bus.max_message_mb, or the pools of the RouDi you started)");
   std::lock_guard<std::mutex> lock(d.publish_mutex);
-  Impl::Writer& writer = d.WriterLocked(channel);
+  Impl::Writer& writer = d.WriterLocked(channel);  // (registers with RouDi first)
+  // max= may be larger than the pools of the RouDi that runs (one started by hand): iceoryx would abort.
+  if (const size_t largest = iox::LargestChunkPayload(); largest > 0 && iox::kChunkHeaderBytes + size > largest)
+    throw BusError("iceoryx: a " + std::to_string(size) + "-byte message on " + channel +
+                   " is larger than the largest chunk of the running RouDi's pools (" + std::to_string(largest) +
+                   " bytes with a " + std::to_string(iox::kChunkHeaderBytes) + "-byte header, " + d.url +
+                   "): start RouDi with larger pools (`fusecal run` plans them from bus.max_message_mb)");
   if (!writer.waited) {
     // RouDi connects a new publisher to the existing subscribers in its discovery loop (every 100 ms);
     // a message published before that is lost to them.

@@ -26,10 +26,11 @@
 // URL parameters:
 //   depth=N       subscriber queue of small channels (default 64, at most 256, iceoryx's limit)
 //   bulk_depth=N  subscriber queue of image, scan and station channels (default 16, at most 256)
-//   max=N         the largest message in bytes RouDi's pools carry (default just under 4 MiB, the largest
-//                 chunk of RouDi's built-in pools; `fusecal run` sets it from the pools it plans). A
-//                 larger message is refused with a BusError naming both sizes: iceoryx would abort the
-//                 process on a chunk no pool holds.
+//   max=N         the largest message in bytes (default just under 4 MiB, the largest chunk of RouDi's
+//                 built-in pools; `fusecal run` sets it from the pools it plans). A larger message is
+//                 refused with a BusError naming both sizes, and so is one larger than the biggest pool of
+//                 the running RouDi (read from its config file): iceoryx would abort the process on a
+//                 chunk no pool holds.
 //   self=0|1      deliver the messages this bus published itself to its own handlers (default 1, as LCM
 //                 does; the bridge of `fusecal run` uses 0)
 // Needs a running RouDi (iox-roudi; `fusecal run` starts one): without one the constructor throws a

@@ -20,6 +20,7 @@
 #include "runtime/bus.hpp"
 #include "runtime/bus_bridge.hpp"
 #include "runtime/iox/iox_chunk.hpp"
+#include "runtime/iox/iox_runtime.hpp"
 #include "runtime/shared_memory.hpp"
 #include "process_utils.hpp"
 #include "sample_messages.hpp"
@@ -195,6 +196,28 @@ TEST(IoxBus, MessageLargerThanThePoolsIsRefusedWithoutAbort) {
   EXPECT_EQ(count, 1);
 }
 
+// max= above what the running RouDi's pools hold (a RouDi started by hand): the bus reads the pools from
+// RouDi's config and refuses the message; iceoryx itself would abort ("Could not find a fitting mempool").
+TEST(IoxBus, MaxAboveTheRunningPoolsIsRefusedWithoutAbort) {
+  auto bus = MakeBus("iox://?max=100000000");
+  ASSERT_EQ(iox::LargestChunkPayload(), kPlan.largest_chunk());
+  const std::vector<uint8_t> huge(kPlan.largest_chunk() + 1, 1);
+  try {
+    bus->PublishRaw("HUGE2", huge.data(), huge.size());
+    FAIL() << "a message larger than every pool was accepted";
+  } catch (const BusError& e) {
+    EXPECT_NE(std::string(e.what()).find("larger than the largest chunk of the running RouDi's pools"),
+              std::string::npos)
+        << e.what();
+  }
+  std::vector<uint8_t> fits(kPlan.largest_chunk() - iox::kChunkHeaderBytes, 2);
+  std::vector<uint8_t> received;
+  auto sub = bus->SubscribeRaw("HUGE2", [&](const RawMessage& m) { received.assign(m.data, m.data + m.size); });
+  bus->PublishRaw("HUGE2", fits.data(), fits.size());
+  HandleUntil(*bus, [&] { return !received.empty(); });
+  EXPECT_TRUE(received == fits);
+}
+
 TEST(IoxBus, RejectsBadUrlsAndChannelNames) {
   try {
     MakeBus("iox://?colour=blue");
@@ -367,6 +390,12 @@ TEST(IoxDoctor, ChecksTheSharedMemoryPathOverARoudiOfItsOwn) {
   EXPECT_TRUE(shm::WaitUntilRoudiGone(10)) << "the doctor's RouDi outlived it";
 }
 #endif
+
+TEST(IoxRuntime, ReadsTheLargestPoolFromRoudisConfig) {
+  EXPECT_EQ(iox::LargestPayloadOfConfig(shm::RoudiConfigToml(kPlan)), kPlan.largest_chunk());
+  EXPECT_EQ(iox::LargestPayloadOfConfig("[[segment.mempool]]\n  size = 128\ncount = 9\nsize=4096\nsizes = 1\n"), 4096u);
+  EXPECT_EQ(iox::LargestPayloadOfConfig("nothing here"), 0u);
+}
 
 TEST(IoxChunk, ParsesOnlyItsOwnChunks) {
   iox::IoxChunkHeader header;
