@@ -1,6 +1,7 @@
 // The message bus every process talks through (after Drake's DrakeLcmInterface): publish LCM-encoded
 // bytes on a channel, subscribe with a handler, dispatch with Handle(timeout). Implementations: LCM
-// (udpm://, memq://, file://, tcpq://) and Cyclone DDS (dds://, runtime/dds/); MakeBus lists the URLs. Typed Publish<M>/Subscribe<M> work for every lcm-gen type.
+// (udpm://, memq://, file://, tcpq://), Cyclone DDS (dds://, runtime/dds/) and iceoryx shared memory
+// (iox://, runtime/iox/); MakeBus lists the URLs. Typed Publish<M>/Subscribe<M> work for every lcm-gen type.
 //
 // Handlers run inside Handle() on the caller's thread. An exception thrown by a handler is caught at the
 // transport boundary and rethrown from Handle(), so that errors are never swallowed inside C callbacks.
@@ -23,7 +24,9 @@ class BusError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// One received message: its channel, its bytes, and when the bus received it.
+// One received message: its channel, its bytes, and when the bus received it. `data` is valid only during
+// the handler's call (iox:// points into shared memory that is handed back when the handler returns):
+// a handler that keeps the bytes copies them.
 struct RawMessage {
   const std::string& channel;
   const uint8_t* data;
@@ -120,6 +123,9 @@ class Bus {
 //   dds://?domain=N&shm=0|1&depth=N&bulk_depth=N&shm_max=B
 //                                            Cyclone DDS, network path or iceoryx shared memory
 //                                            (runtime/dds/dds_bus.hpp; only when built with DDS)
+//   iox://?depth=N&bulk_depth=N&max=B&self=0|1  iceoryx shared memory on one host, zero-copy reads: handlers
+//                                            see the bytes in place (runtime/iox/iox_bus.hpp; needs a
+//                                            RouDi; only when built with iceoryx)
 // Throws BusError with the reason (and this list of schemes) when the URL is unknown or the transport
 // cannot start.
 std::unique_ptr<Bus> MakeBus(const std::string& url);

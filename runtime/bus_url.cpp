@@ -44,4 +44,6 @@ bool IsSharedMemoryDdsUrl(const std::string& url) {
   return url.rfind("dds://", 0) == 0 && UrlParameter(url, "shm") == "1";
 }
 
+bool IsIoxUrl(const std::string& url) { return url.rfind("iox://", 0) == 0; }
+
 }  // namespace fusecal

@@ -14,4 +14,7 @@ std::string WithUrlParameter(const std::string& url, const std::string& key, con
 // A dds:// URL asking for shared memory (shm=1).
 bool IsSharedMemoryDdsUrl(const std::string& url);
 
+// An iox:// URL (iceoryx shared memory, runtime/iox/iox_bus.hpp).
+bool IsIoxUrl(const std::string& url);
+
 }  // namespace fusecal

@@ -5,6 +5,9 @@
 #ifdef FUSECAL_WITH_DDS
 #include "runtime/dds/dds_bus.hpp"
 #endif
+#ifdef FUSECAL_WITH_IOX
+#include "runtime/iox/iox_bus.hpp"
+#endif
 
 namespace fusecal {
 
@@ -12,7 +15,7 @@ namespace {
 
 constexpr const char* kSchemes =
     "udpm:// (LCM UDP multicast), memq:// (LCM in-process), file:// (LCM log), tcpq:// (LCM over TCP), "
-    "dds:// (Cyclone DDS)";
+    "dds:// (Cyclone DDS), iox:// (iceoryx shared memory, zero-copy)";
 
 }  // namespace
 
@@ -36,6 +39,15 @@ std::unique_ptr<Bus> MakeBus(const std::string& url) {
     throw BusError("bus URL '" + chosen +
                    "': this fusecal was built without DDS (install cyclonedds-dev and cyclonedds-tools, "
                    "then reconfigure with -DFUSECAL_WITH_DDS=ON)");
+#endif
+  }
+  if (scheme == "iox") {
+#ifdef FUSECAL_WITH_IOX
+    return std::make_unique<IoxBus>(chosen);
+#else
+    throw BusError("bus URL '" + chosen +
+                   "': this fusecal was built without iceoryx (install libiceoryx-binding-c-dev and iceoryx, "
+                   "then reconfigure with -DFUSECAL_WITH_IOX=ON)");
 #endif
   }
   throw BusError("bus URL '" + chosen + "': unknown transport '" + scheme + "' (expected one of " + kSchemes + ")");

@@ -39,6 +39,10 @@ int FuzzOneDdsEnvelope(const uint8_t* data, size_t size);
 // control messages) through one receiver and one publisher.
 int FuzzOneReliableUdpm(const uint8_t* data, size_t size);
 
+// The iox:// chunk (entries_iox.cpp, with iceoryx only): the user payload of one iceoryx chunk (header and
+// LCM bytes), checked and handed on as IoxBus does.
+int FuzzOneIoxChunk(const uint8_t* data, size_t size);
+
 // YAML (entries_yaml.cpp): the pipeline config with every stage's settings, a simulator scenario, the
 // result file, the camera file.
 int FuzzOnePipelineConfig(const uint8_t* data, size_t size);

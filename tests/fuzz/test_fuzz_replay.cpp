@@ -37,6 +37,9 @@ const std::map<std::string, Entry>& Entries() {
       {"dds_envelope", FuzzOneDdsEnvelope},
 #endif
       {"reliable_udpm", FuzzOneReliableUdpm},
+#ifdef FUSECAL_WITH_IOX
+      {"iox_chunk", FuzzOneIoxChunk},
+#endif
       {"pipeline_config", FuzzOnePipelineConfig},
       {"scenario", FuzzOneScenario},
       {"result_file", FuzzOneResultFile},
@@ -103,6 +106,9 @@ TEST(FuzzCorpus, EveryFolderBelongsToATarget) {
   for (const std::string& name : folders) {
 #ifndef FUSECAL_WITH_DDS
     if (name == "dds_envelope") continue;  // built only with Cyclone DDS
+#endif
+#ifndef FUSECAL_WITH_IOX
+    if (name == "iox_chunk") continue;  // built only with iceoryx
 #endif
     EXPECT_TRUE(Entries().count(name)) << "tests/fuzz: folder '" << name << "' is no fuzz target";
   }

@@ -104,7 +104,7 @@ TEST_F(Pipeline, FivePercentLossAndJitterOnUdpGiveTheSameAnswer) {
 TEST_F(Pipeline, NetemLossOnLoopbackGivesTheSameAnswer) {
   const auto add = RunCommand("tc qdisc add dev lo root netem loss 5% delay 10ms 10ms 2>&1");
   if (add.exit_code != 0) GTEST_SKIP() << "tc netem is not available here (" << add.output << "); loss is injected instead (FivePercentLossAndJitterOnUdpGiveTheSameAnswer)";
-  const std::string bus = "udpm://239.255.76.67:7689?ttl=0&recv_buf_size=67108864";
+  const std::string bus = "udpm://239.255.76.67:7696?ttl=0&recv_buf_size=67108864";
   const auto run = RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus '" + bus + "' --out " +
                               Temp("run-netem") + " 2>&1");
   RunCommand("tc qdisc del dev lo root 2>&1");
@@ -158,6 +158,45 @@ TEST_F(Pipeline, RoudiKilledMidRunComesBackWithTheStagesAndTheAnswerStays) {
   const pid_t pid = StartInBackground(command, out + ".txt");
   ASSERT_GE(pid, 0);
   // Kill RouDi once the stages are up and the first motions are out.
+  bool killed = false;
+  for (int i = 0; i < 400 && !killed; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (ReadAll(out + ".txt").find("motions lidar 1") == std::string::npos) continue;
+    killed = RunCommand("pkill -9 -x iox-roudi").exit_code == 0;
+  }
+  ASSERT_TRUE(killed) << "RouDi or the first motion never appeared:\n" << ReadAll(out + ".txt");
+  int status = 0;
+  waitpid(pid, &status, 0);
+  const std::string output = ReadAll(out + ".txt");
+  EXPECT_NE(output.find("iox-roudi exited"), std::string::npos) << output;
+  EXPECT_NE(output.find("every stage restarted after RouDi"), std::string::npos) << output;
+  EXPECT_NE(output.find("RouDi restarts: 1"), std::string::npos) << output;
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+  ExpectSameAnswerAsCalibrate(out, output);
+}
+#endif
+
+#ifdef FUSECAL_WITH_IOX
+// Over iox:// (iceoryx zero-copy): `fusecal run` starts RouDi, keeps itself on LCM multicast and bridges
+// it to the stages (runtime/shm_transport.hpp); RouDi is stopped at the end.
+TEST_F(Pipeline, SeparateProcessesOverIoxAgreeWithCalibrate) {
+  const auto run = RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus 'iox://' --out " + Temp("run-iox") +
+                              " 2>&1");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("shared memory: started iox-roudi"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("bridged to the stages' iox://"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("messages lost by the bus: 0"), std::string::npos) << run.output;
+  EXPECT_FALSE(shm::RoudiRunning()) << "RouDi outlived the run";
+  ExpectSameAnswerAsCalibrate(Temp("run-iox"), run.output);
+}
+
+// RouDi killed in the middle of an iox:// run: the stages and the bridge are cut off from the new RouDi;
+// the supervisor starts RouDi and all of them again, and the answer stays the same.
+TEST_F(Pipeline, RoudiKilledMidIoxRunComesBackWithTheStagesAndTheAnswerStays) {
+  const std::string out = Temp("roudi-killed-iox");
+  const std::string command = kFusecal + " run --log " + log_ + " --speed 0 --bus 'iox://' --out " + out;
+  const pid_t pid = StartInBackground(command, out + ".txt");
+  ASSERT_GE(pid, 0);
   bool killed = false;
   for (int i = 0; i < 400 && !killed; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));

@@ -5,6 +5,9 @@
 //   lcm-tuned    LCM UDP multicast with a 64 MiB receive buffer (needs net.core.rmem_max >= 64 MiB)
 //   dds-udp      Cyclone DDS over the network path (loopback UDP)
 //   dds-shm      Cyclone DDS over iceoryx shared memory, with a RouDi this benchmark starts and stops
+//   iox          fusecal's iceoryx bus (iox://), the handler reading the chunk in place (same RouDi)
+//   iceoryx-raw  the floor: iceoryx's C API directly, loan + copy in + publish, take + read in place +
+//                release (raw_iceoryx_bus.hpp; same RouDi)
 // Publisher and subscriber are separate processes (this executable with --role, see transport_probe.hpp),
 // so every number is cross-process. CPU is the two processes' CPU time (all their threads) summed, over
 // the wall time from the first send to the later of the last send and the last delivery (the send
@@ -53,11 +56,17 @@ struct Transport {
 // `dds_depth`: the DDS readers' and writers' KEEP_LAST history (8 in the benchmark of issue 10).
 std::vector<Transport> AllTransports(const shm::PoolPlan& plan, int dds_depth) {
   const std::string depth = std::to_string(dds_depth);
+  const std::string largest = std::to_string(shm::LargestShmMessage(plan));
+  // The iceoryx rows' subscriber queues hold `dds_depth` messages too (the DDS history's counterpart).
   return {{"lcm-default", "udpm://239.255.76.67:7670?ttl=0", false},
           {"lcm-tuned", "udpm://239.255.76.67:7671?ttl=0&recv_buf_size=67108864", false},
           {"dds-udp", "dds://?domain=40&depth=" + depth, false},
-          {"dds-shm", "dds://?domain=41&shm=1&depth=" + depth + "&shm_max=" + std::to_string(shm::LargestShmMessage(plan)),
-           true}};
+          {"dds-shm", "dds://?domain=41&shm=1&depth=" + depth + "&shm_max=" + largest, true},
+#ifdef FUSECAL_WITH_IOX
+          {"iox", "iox://?depth=" + depth + "&max=" + largest, true},
+          {"iceoryx-raw", "iceoryx-raw://?depth=" + depth, true},
+#endif
+  };
 }
 
 // Messages per configuration: ~5 s at the paced rates, 100 flat out; --quick: 20 each.
@@ -82,8 +91,9 @@ std::string SelfExecutable() {
 
 void OnSignal(int) { RequestInterrupt(); }
 
-// The RouDi for dds-shm: started before its first configuration, stopped after its last. `problem` says
-// why dds-shm cannot run (then its rows record nothing delivered).
+// The RouDi of the shared-memory rows (dds-shm, iox, iceoryx-raw): started before a transport's first
+// configuration, stopped after its last. `problem` says why they cannot run (then their rows record
+// nothing delivered).
 struct RoudiForBench {
   std::unique_ptr<shm::RoudiProcess> process;
   std::string problem;
@@ -93,7 +103,7 @@ struct RoudiForBench {
     if (!shm::WaitUntilRoudiGone(3)) {
       problem = "an iceoryx RouDi that this benchmark did not start is already running (socket /tmp/roudi); "
                 "its pools may not fit 6 MB messages, and stopping it would end the processes attached to it. "
-                "Stop it to measure dds-shm.";
+                "Stop it to measure the shared-memory rows.";
       return;
     }
     process = std::make_unique<shm::RoudiProcess>(work_dir, plan);
@@ -133,7 +143,7 @@ int RunBenchmark(const std::string& out_path, bool quick, const std::string& tra
       bool known = false;
       for (const auto& t : all) known = known || t.name == name;
       if (!known) {
-        std::fprintf(stderr, "--transports: unknown transport '%s' (lcm-default, lcm-tuned, dds-udp, dds-shm)\n",
+        std::fprintf(stderr, "--transports: unknown transport '%s' (lcm-default, lcm-tuned, dds-udp, dds-shm, iox, iceoryx-raw)\n",
                      name.c_str());
         return 2;
       }
@@ -211,7 +221,7 @@ int RunBenchmark(const std::string& out_path, bool quick, const std::string& tra
             child_output = m.child_output;
             if (transport.needs_roudi && !m.shared_memory && m.sent > 0)
               note += std::string(note.empty() ? "" : "; ") +
-                      "WARNING: the DDS bus did not use shared memory (network path measured instead)";
+                      "WARNING: the bus did not use shared memory (network path measured instead)";
           }
           rows.push_back(row);
           std::fprintf(stderr, "%s\n", ProgressLine(index, total, row).c_str());
@@ -257,7 +267,7 @@ int main(int argc, char** argv) {
   app.add_option("--out", out_path, "CSV file to write");
   app.add_flag("--quick", quick, "only 2 MB at 30 Hz and flat out, 20 messages each (for tests)");
   app.add_option("--transports", transport_list,
-                 "comma-separated subset of lcm-default,lcm-tuned,dds-udp,dds-shm (default: all)");
+                 "comma-separated subset of lcm-default,lcm-tuned,dds-udp,dds-shm,iox,iceoryx-raw (default: all)");
   int dds_depth = 8;
   app.add_option("--dds-depth", dds_depth, "KEEP_LAST history depth of the DDS transports (default 8)")
       ->check(CLI::Range(1, 256));

@@ -20,6 +20,10 @@
 #ifdef FUSECAL_WITH_DDS
 #include "runtime/dds/dds_bus.hpp"
 #endif
+#ifdef FUSECAL_WITH_IOX
+#include "runtime/iox/iox_bus.hpp"
+#include "tools/bench_transport/raw_iceoryx_bus.hpp"
+#endif
 
 namespace fusecal::bench {
 
@@ -114,13 +118,24 @@ CpuTimeline ParseTimeline(const std::string& text) {
 
 double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-// Whether the bus is a DDS bus that really uses shared memory (dds_bus falls back to the network path
-// without RouDi, and says so only on stderr).
-bool UsesSharedMemory(Bus& bus) {
+// Whether the bus really uses shared memory: a DDS bus may fall back to the network path without RouDi
+// (and says so only on stderr); iox:// and the raw floor have no other path.
+bool UsesSharedMemory(Bus& bus, const std::string& url) {
 #ifdef FUSECAL_WITH_DDS
   if (auto* dds = dynamic_cast<DdsBus*>(&bus)) return dds->shared_memory();
 #endif
+#ifdef FUSECAL_WITH_IOX
+  if (dynamic_cast<IoxBus*>(&bus) || IsRawIceoryxUrl(url)) return true;
+#endif
   return false;
+}
+
+// The bus under test: MakeBus, or the raw-iceoryx floor (iceoryx-raw://, not a fusecal bus URL).
+std::unique_ptr<Bus> MakeProbeBus(const std::string& url) {
+#ifdef FUSECAL_WITH_IOX
+  if (IsRawIceoryxUrl(url)) return MakeRawIceoryxBus(url);
+#endif
+  return MakeBus(url);
 }
 
 // Waits until `path` exists; false when `abort_path` appears first or after `timeout_s`.
@@ -219,8 +234,8 @@ int RunSubscriber(const ProbeConfig& config) {
   latencies_ms.reserve(static_cast<size_t>(config.count));
   CpuSampler cpu;
   try {
-    auto bus = MakeBus(config.url);
-    result.shared_memory = UsesSharedMemory(*bus);
+    auto bus = MakeProbeBus(config.url);
+    result.shared_memory = UsesSharedMemory(*bus, config.url);
     std::vector<char> seen(static_cast<size_t>(config.count), 0);
     bool warm = false;
     Subscription subscription = bus->SubscribeRaw(config.channel, [&](const RawMessage& message) {
@@ -296,8 +311,8 @@ int RunPublisher(const ProbeConfig& config) {
   PublisherResult result;
   CpuSampler cpu;
   try {
-    auto bus = MakeBus(config.url);
-    result.shared_memory = UsesSharedMemory(*bus);
+    auto bus = MakeProbeBus(config.url);
+    result.shared_memory = UsesSharedMemory(*bus, config.url);
     if (!WaitForFile(files.ready(), files.stop(), kReadyTimeoutS))
       throw std::runtime_error("the subscriber did not subscribe within " + std::to_string(int(kReadyTimeoutS)) + " s");
 

@@ -3,13 +3,17 @@
 #include <net/if.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
+#include <stdexcept>
 #include <sstream>
 
 #include "runtime/bus.hpp"
 #include "runtime/bus_url.hpp"
 #include "runtime/shared_memory.hpp"
+#include "runtime/shm_transport.hpp"
 
 namespace fusecal {
 
@@ -115,7 +119,7 @@ DoctorFinding CheckSharedMemory() {
   detail.precision(2);
   detail << std::fixed << double(space.free_bytes) / double(1u << 30) << " GiB free; RouDi's pools need "
          << double(plan.total_bytes() + shm::kRoudiManagementBytes) / double(1u << 30)
-         << " GiB (dds://?shm=1 only)";
+         << " GiB (dds://?shm=1 and iox:// only)";
   f.ok = problem.empty();
   f.detail = f.ok ? detail.str() : problem;
   if (!f.ok) f.fix = "mount -o remount,size=2g /dev/shm";
@@ -126,19 +130,23 @@ DoctorFinding CheckSharedMemory() {
 DoctorFinding CheckRoudi(const std::string& url) {
   DoctorFinding f;
   f.check = "iceoryx RouDi";
-  const bool wanted = IsSharedMemoryDdsUrl(url);
+  const bool iox = IsIoxUrl(url);
+  const bool wanted = IsSharedMemoryDdsUrl(url) || iox;
   const bool running = shm::RoudiRunning();
   if (shm::RoudiExecutable().empty()) {
     f.ok = !wanted;
-    f.detail = "iox-roudi is not installed (shared memory is unavailable; dds://?shm=1 uses the network path)";
+    f.loses_messages = iox;  // iox:// has no other path
+    f.detail = iox ? "iox-roudi is not installed: iox:// cannot run"
+                   : "iox-roudi is not installed (shared memory is unavailable; dds://?shm=1 uses the network path)";
     if (wanted) f.fix = "apt-get install iceoryx";
     return f;
   }
   f.detail = running ? "running (socket /tmp/roudi)"
                      : std::string("not running") +
-                           (wanted ? ": `fusecal run` starts its own; stand-alone stages with shm=1 would use "
-                                     "the network path"
-                                   : " (needed by dds://?shm=1 only)");
+                           (iox ? ": `fusecal run` starts its own; stand-alone stages on iox:// fail without one"
+                            : wanted ? ": `fusecal run` starts its own; stand-alone stages with shm=1 would use "
+                                       "the network path"
+                                     : " (needed by dds://?shm=1 and iox:// only)");
   return f;
 }
 
@@ -164,17 +172,51 @@ DoctorFinding CheckLiveRoundTrip(const std::string& url) {
   return f;
 }
 
+// iox://: a 1 MB message round the shared-memory path itself, over the RouDi that runs, or else over one
+// started for the check (with the pools `fusecal run` plans; it ends when the doctor does, since a process
+// attached to RouDi is ended when RouDi is stopped).
+DoctorFinding CheckIoxRoundTrip(const std::string& url, std::unique_ptr<shm::RoudiProcess>* roudi) {
+  DoctorFinding f;
+  f.check = "iox:// round trip";
+  std::string checked = url;
+  if (!shm::RoudiRunning() && !shm::RoudiExecutable().empty()) {
+    const shm::PoolPlan plan = shm::PlanPools(shm::kDefaultMaxMessageBytes, shm::kDefaultBulkChunks);
+    char dir[] = "/tmp/fusecal-doctor-XXXXXX";
+    try {
+      if (!mkdtemp(dir)) throw std::runtime_error("cannot create a folder in /tmp for RouDi");
+      *roudi = std::make_unique<shm::RoudiProcess>(dir, plan);
+      (*roudi)->Start();
+      (*roudi)->LeaveUntilExit();
+      std::error_code ignored;  // RouDi has read its config; its log is an open file
+      std::filesystem::remove_all(dir, ignored);
+      if (UrlParameter(url, "max").empty()) checked = WithUrlParameter(url, "max", std::to_string(shm::LargestShmMessage(plan)));
+    } catch (const std::exception& e) {
+      f.ok = false;
+      f.loses_messages = true;
+      f.detail = std::string("RouDi does not start: ") + e.what();
+      f.fix = "fix the problems above, then run `fusecal doctor --bus 'iox://'` again";
+      return f;
+    }
+  }
+  f = CheckLiveRoundTrip(checked);
+  f.check = "iox:// round trip";
+  if (f.ok) f.detail += *roudi ? " (over a RouDi started for this check)" : " (over the running RouDi)";
+  return f;
+}
+
 }  // namespace
 
 
 std::vector<DoctorFinding> RunDoctor(const std::string& bus_url, bool apply_fixes) {
   const std::string url = bus_url.empty() ? DefaultBusUrl() : bus_url;
   const bool multicast = url.rfind("udpm://", 0) == 0;
+  // iox://: `fusecal run` keeps its coordinator on LCM multicast on this host, bridged to the stages.
+  const std::string multicast_url = IsIoxUrl(url) ? kIoxCoordinatorUrl : url;
   auto run_checks = [&] {
     std::vector<DoctorFinding> findings;
-    if (multicast) {
-      findings.push_back(CheckRoute(url));
-      findings.push_back(CheckReceiveBuffer(url));
+    if (multicast || IsIoxUrl(url)) {
+      findings.push_back(CheckRoute(multicast_url));
+      findings.push_back(CheckReceiveBuffer(multicast_url));
     }
     findings.push_back(CheckSharedMemory());
     findings.push_back(CheckRoudi(url));
@@ -196,6 +238,12 @@ std::vector<DoctorFinding> RunDoctor(const std::string& bus_url, bool apply_fixe
   // the doctor must not be (RouDi itself has its own line above).
   if (multicast || url.rfind("memq://", 0) == 0) findings.push_back(CheckLiveRoundTrip(url));
   if (url.rfind("dds://", 0) == 0) findings.push_back(CheckLiveRoundTrip(WithUrlParameter(url, "shm", "0")));
+  if (IsIoxUrl(url)) {
+    findings.push_back(CheckLiveRoundTrip(kIoxCoordinatorUrl));
+    findings.back().check = "coordinator bus round trip";
+    static std::unique_ptr<shm::RoudiProcess> roudi;  // (until the doctor exits)
+    findings.push_back(CheckIoxRoundTrip(url, &roudi));
+  }
   return findings;
 }
 

@@ -15,7 +15,7 @@ namespace fusecal {
 struct PipelineConfig {
   std::string path;  // the file it came from (stage processes are given the same file)
   std::string bus_url;
-  // Shared memory (dds://?shm=1): RouDi's pools hold `shm_chunks` messages of up to max_message_bytes.
+  // Shared memory (dds://?shm=1, iox://): RouDi's pools hold `shm_chunks` messages of up to max_message_bytes.
   size_t max_message_bytes = 12u << 20;
   int shm_chunks = 32;
   std::string stations_from = "auto";  // detector | log | auto

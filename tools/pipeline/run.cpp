@@ -23,6 +23,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The supervised process that joins the coordinator's bus to the stages' iox:// bus.
+constexpr const char* kBridgeName = "bus_bridge";
+
 // Watches the bus for what tells the player that the pipeline has dealt with a station.
 struct PipelineWatch {
   std::set<std::pair<std::string, int>> motions_for;  // (sensor, station_j), valid or failed
@@ -71,7 +74,8 @@ class PipelineRun {
         url_(options.bus_url.empty() ? (config.bus_url.empty() ? DefaultBusUrl() : config.bus_url) : options.bus_url),
         use_detector_(config.stations_from == "detector" ||
                       (config.stations_from == "auto" && (options.log_path.empty() || !LogHasStations(options.log_path)))),
-        // With shm=1, RouDi is started here and the coordinator stays on the network path (shm_transport.hpp).
+        // With shm=1 or iox://, RouDi is started here and the coordinator stays off shared memory
+        // (shm_transport.hpp).
         transport_(url_, config.max_message_bytes, config.shm_chunks, options.out_dir, event),
         bus_(MakeBus(transport_.coordinator_url())),
         session_(*bus_, options.out_dir + "/session.lcmlog", true),
@@ -114,6 +118,14 @@ class PipelineRun {
       std::string exe = name;
       std::replace(exe.begin(), exe.end(), '_', '-');
       supervisor_.Add({name, ExecutableDir() + "/fusecal-" + exe, {"--config", config_.path, "--bus", transport_.stage_url()}});
+    }
+    // iox://: the coordinator's bus and the stages' are joined by a bridge process, supervised like a stage
+    // (it sends no heartbeat and is never given the stations).
+    if (transport_.needs_bridge()) {
+      supervisor_.Add({kBridgeName, ExecutableDir() + "/fusecal-bus-bridge",
+                       {"--coordinator", transport_.coordinator_url(), "--stages", transport_.stage_url()}});
+      event_("the coordinator is on " + transport_.coordinator_url() + ", bridged to the stages' " +
+             transport_.stage_url() + " by fusecal-bus-bridge");
     }
     supervisor_.StartAll();
   }
@@ -182,6 +194,7 @@ class PipelineRun {
   // which a restarted hand-eye stage needs.
   void ResupplyRestartedStages() {
     for (const auto& p : supervisor_.processes()) {
+      if (p.name == kBridgeName) continue;
       const auto beat = watch_.pids.find(p.name);
       if (p.restarts == 0 || beat == watch_.pids.end() || beat->second != p.pid || resupplied_[p.name] == p.pid)
         continue;
@@ -196,6 +209,7 @@ class PipelineRun {
   // until it has, so that every stage sees the stations in order.
   bool ResupplyPending() const {
     for (const auto& p : supervisor_.processes()) {
+      if (p.name == kBridgeName) continue;
       const auto given = resupplied_.find(p.name);
       if (p.restarts > 0 && (given == resupplied_.end() || given->second != p.pid)) return true;
     }
@@ -281,9 +295,8 @@ class PipelineRun {
   }
 
   RunReport Finish() {
-    report_.used_dds = url_.rfind("dds://", 0) == 0;
-    report_.bus_counts_losses =
-        report_.used_dds || (url_.rfind("udpm://", 0) == 0 && UrlParameter(url_, "reliable") != "0");
+    report_.bus_counts_losses = url_.rfind("dds://", 0) == 0 || url_.rfind("iox://", 0) == 0 ||
+                                (url_.rfind("udpm://", 0) == 0 && UrlParameter(url_, "reliable") != "0");
     if (player_) PublishPlayerStatus("done");  // the runs on other hosts stop their stages and write outputs
     supervisor_.Stop();
     transport_.Stop();  // after the stages: stopping RouDi ends whatever is still attached to it

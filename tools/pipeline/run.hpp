@@ -42,8 +42,7 @@ struct RunReport {
   CalibrationOutputs outputs;
   int restarts = 0;
   int roudi_restarts = 0;  // shared memory only: times RouDi was started again
-  bool used_dds = false;
-  bool bus_counts_losses = false;  // DDS, and udpm:// with its reliable layer
+  bool bus_counts_losses = false;  // dds://, iox://, and udpm:// with its reliable layer, count what they lose
   double bus_dropped = 0;  // messages the buses of the stages and the coordinator know they lost
   double bus_resent = 0;   // datagrams they sent again when asked (udpm://'s reliable layer)
   double total_seconds = 0;

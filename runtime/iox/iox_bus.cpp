@@ -1,0 +1,416 @@
+#include "runtime/iox/iox_bus.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <chrono>
+#include <cstring>
+#include <ctime>
+#include <exception>
+#include <map>
+#include <mutex>
+#include <regex>
+#include <thread>
+#include <vector>
+
+#include "runtime/iox/iceoryx_c.hpp"
+#include "iceoryx_posh/mepoo/chunk_header.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/iox/iox_chunk.hpp"
+#include "runtime/iox/iox_runtime.hpp"
+#include "runtime/shared_memory.hpp"
+
+namespace fusecal {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr int kDefaultDepth = 64;     // small channels: STATUS, motions, EXTRINSIC, ...
+constexpr int kDefaultBulkDepth = 8;  // images, scans, stations: each queued one holds a pool chunk
+constexpr int kMaxQueue = 256;        // iceoryx 2.0's MAX_SUBSCRIBER_QUEUE_CAPACITY
+// Just under the 4 MiB chunks of RouDi's built-in pools (iceoryx's chunk header comes on top).
+constexpr long kDefaultMax = 4 * 1024 * 1024 - static_cast<long>(shm::kChunkOverheadBytes);
+constexpr auto kNewPublisherWait = std::chrono::milliseconds(250);  // > RouDi's 100 ms discovery loop
+constexpr auto kDiscoveryInterval = std::chrono::milliseconds(100);
+constexpr size_t kDiscoveryCapacity = 256;
+
+std::atomic<uint64_t> g_bus_count{0};
+
+bool IsBulkChannel(const std::string& channel) {
+  return channel == channels::kCameraImage || channel == channels::kLidarScan || channel == channels::kStation;
+}
+
+bool IsPlainName(const std::string& channel) {
+  return !channel.empty() && std::all_of(channel.begin(), channel.end(), [](unsigned char c) {
+    return std::isalnum(c) || c == '_' || c == '-' || c == '/';
+  });
+}
+
+long ParseInt(const std::string& url, const std::string& key, const std::string& value, long lo, long hi) {
+  try {
+    size_t used = 0;
+    const long v = std::stol(value, &used);
+    if (used == value.size() && v >= lo && v <= hi) return v;
+  } catch (const std::exception&) {
+  }
+  throw BusError("bus URL '" + url + "': " + key + "=" + value + " is not an integer in [" + std::to_string(lo) +
+                 ", " + std::to_string(hi) + "]");
+}
+
+// The payload bytes of a chunk a subscriber took (from iceoryx's chunk header).
+size_t PayloadBytes(const void* payload) {
+  const auto* header = reinterpret_cast<const ::iox::mepoo::ChunkHeader*>(iox_chunk_header_from_user_payload_const(payload));
+  return header->userPayloadSize();
+}
+
+std::string AllocationError(iox_AllocationResult result) {
+  switch (result) {
+    case AllocationResult_RUNNING_OUT_OF_CHUNKS:
+      return "RouDi's pool for this size has no free chunk (readers hold them all: raise bus.shm_chunks, or "
+             "lower bulk_depth=)";
+    case AllocationResult_NO_MEMPOOLS_AVAILABLE:
+      return "RouDi has no pool for this size";
+    case AllocationResult_TOO_MANY_CHUNKS_ALLOCATED_IN_PARALLEL:
+      return "too many chunks loaned at once";
+    default:
+      return "iceoryx allocation error " + std::to_string(static_cast<int>(result));
+  }
+}
+
+}  // namespace
+
+struct IoxBus::Impl {
+  struct Sub {
+    std::string pattern;
+    bool plain = true;
+    std::regex regex;
+    RawHandler handler;
+    bool active = true;
+    bool Matches(const std::string& channel) const {
+      return plain ? channel == pattern : std::regex_match(channel, regex);
+    }
+  };
+  // iceoryx keeps pointers to its storage: each lives at a fixed address until deinit.
+  struct Reader {
+    std::string channel;
+    iox_sub_storage_t storage{};
+    iox_sub_t sub = nullptr;
+    iox::SequenceGaps gaps;
+    ~Reader() {
+      if (sub) iox_sub_deinit(sub);
+    }
+  };
+  struct Writer {
+    iox_pub_storage_t storage{};
+    iox_pub_t pub = nullptr;
+    uint64_t sequence = 0;
+    bool waited = false;  // for its first subscriber
+    ~Writer() {
+      if (pub) iox_pub_deinit(pub);
+    }
+  };
+
+  std::string url;
+  int depth = kDefaultDepth;
+  int bulk_depth = kDefaultBulkDepth;
+  long max_message = kDefaultMax;
+  bool deliver_own = true;
+  uint64_t origin = 0;
+
+  // Readers are deleted after the waitset (members are destroyed in reverse order).
+  std::map<std::string, std::unique_ptr<Reader>> readers;  // by channel
+  iox_ws_storage_t waitset_storage{};
+  iox_ws_t waitset = nullptr;
+  iox_service_discovery_storage_t discovery_storage{};
+  iox_service_discovery_t discovery = nullptr;
+  Clock::time_point last_discovery{};
+
+  std::mutex mutex;         // subs, readers, discovery
+  std::mutex publish_mutex;  // writers (a publisher is not thread-safe)
+  std::map<std::string, std::unique_ptr<Writer>> writers;  // by channel
+  std::vector<std::shared_ptr<Sub>> subs;
+  std::atomic<uint64_t> dropped{0};
+  std::exception_ptr pending_error;
+
+  ~Impl() {
+    writers.clear();
+    if (waitset) iox_ws_deinit(waitset);  // detaches the readers
+    readers.clear();
+    if (discovery) iox_service_discovery_deinit(discovery);
+  }
+
+  void ParseUrl(const std::string& text) {
+    if (text.rfind("iox://", 0) != 0) throw BusError("bus URL '" + text + "' is not an iox:// URL");
+    const std::string rest = text.substr(6);
+    const auto question = rest.find('?');
+    const std::string host = rest.substr(0, question);
+    if (!host.empty() && host != "/")
+      throw BusError("bus URL '" + text + "': iceoryx takes no address ('" + host +
+                     "'); use iox://?depth=N&bulk_depth=N&max=BYTES");
+    if (question == std::string::npos) return;
+    const std::string query = rest.substr(question + 1);
+    size_t pos = 0;
+    while (pos <= query.size()) {
+      const size_t amp = std::min(query.find('&', pos), query.size());
+      const std::string item = query.substr(pos, amp - pos);
+      pos = amp + 1;
+      if (item.empty()) continue;
+      const auto eq = item.find('=');
+      const std::string key = item.substr(0, eq);
+      const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
+      if (key == "depth")
+        depth = static_cast<int>(ParseInt(text, key, value, 1, kMaxQueue));
+      else if (key == "bulk_depth")
+        bulk_depth = static_cast<int>(ParseInt(text, key, value, 1, kMaxQueue));
+      else if (key == "max")
+        max_message = ParseInt(text, key, value, 1024, 0xffffffffL - static_cast<long>(iox::kChunkHeaderBytes));
+      else if (key == "self")
+        deliver_own = ParseInt(text, key, value, 0, 1) == 1;
+      else
+        throw BusError("bus URL '" + text + "': unknown parameter '" + key +
+                       "' (iceoryx takes depth=, bulk_depth=, max= and self=)");
+    }
+  }
+
+  void EnsureReaderLocked(const std::string& channel) {
+    if (readers.count(channel)) return;
+    if (const std::string problem = iox::CheckChannelName(channel); !problem.empty())
+      throw BusError("iceoryx subscribe on " + url + ": " + problem);
+    iox::EnsureRuntime(url);
+    auto reader = std::make_unique<Reader>();
+    reader->channel = channel;
+    iox_sub_options_t options;
+    iox_sub_options_init(&options);
+    options.queueCapacity = static_cast<uint64_t>(IsBulkChannel(channel) ? bulk_depth : depth);
+    options.historyRequest = 0;
+    options.subscribeOnCreate = true;
+    options.queueFullPolicy = QueueFullPolicy_DISCARD_OLDEST_DATA;
+    options.requirePublisherHistorySupport = false;
+    reader->sub = iox_sub_init(&reader->storage, iox::kService, channel.c_str(), iox::kEvent, &options);
+    if (!reader->sub) throw BusError("iceoryx: cannot create a subscriber for channel " + channel + " on " + url);
+    const auto attached = iox_ws_attach_subscriber_state(waitset, reader->sub, SubscriberState_HAS_DATA, 0, nullptr);
+    if (attached != WaitSetResult_SUCCESS)
+      throw BusError("iceoryx: cannot wait on channel " + channel + " on " + url +
+                     (attached == WaitSetResult_WAIT_SET_FULL ? " (the waitset is full: too many channels)" : ""));
+    readers[channel] = std::move(reader);
+  }
+
+  // A service of ours exists (a local or discovered publisher): read it if a pattern wants it.
+  void OnChannelLocked(const std::string& channel) {
+    if (readers.count(channel) || !iox::CheckChannelName(channel).empty()) return;
+    for (const auto& sub : subs)
+      if (sub->active && sub->Matches(channel)) return EnsureReaderLocked(channel);
+  }
+
+  bool HasPatternLocked() const {
+    for (const auto& sub : subs)
+      if (sub->active && !sub->plain) return true;
+    return false;
+  }
+
+  // Subscribes the pattern subscriptions to the services offered since the last look.
+  void DiscoverLocked() {
+    last_discovery = Clock::now();
+    if (!HasPatternLocked()) return;
+    if (!discovery) discovery = iox_service_discovery_init(&discovery_storage);
+    std::vector<iox_service_description_t> found(kDiscoveryCapacity);
+    uint64_t missed = 0;
+    const uint64_t n = iox_service_discovery_find_service(discovery, iox::kService, nullptr, iox::kEvent, found.data(),
+                                                          found.size(), &missed, MessagingPattern_PUB_SUB);
+    for (uint64_t i = 0; i < n && i < found.size(); ++i) {
+      found[i].instanceString[sizeof found[i].instanceString - 1] = '\0';
+      OnChannelLocked(found[i].instanceString);
+    }
+  }
+
+  // Takes every queued chunk and hands it, in place, to the matching handlers. Returns the handler calls.
+  int Drain() {
+    std::vector<Reader*> snapshot;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      for (auto& [channel, reader] : readers) snapshot.push_back(reader.get());
+    }
+    int delivered = 0;
+    for (Reader* reader : snapshot) {
+      const void* payload = nullptr;
+      while (!pending_error && iox_sub_take_chunk(reader->sub, &payload) == ChunkReceiveResult_SUCCESS) {
+        const iox::IoxChunkHeader* header = iox::ParseChunk(payload, PayloadBytes(payload));
+        if (header) {
+          dropped += reader->gaps.Count(header->origin, header->sequence);
+          if (deliver_own || header->origin != origin) delivered += Deliver(*reader, *header);
+        }
+        iox_sub_release_chunk(reader->sub, payload);  // after every handler has returned
+      }
+    }
+    return delivered;
+  }
+
+  int Deliver(const Reader& reader, const iox::IoxChunkHeader& header) {
+    std::vector<std::shared_ptr<Sub>> matching;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      for (const auto& sub : subs)
+        if (sub->active && sub->Matches(reader.channel)) matching.push_back(sub);
+    }
+    const auto* bytes = reinterpret_cast<const uint8_t*>(&header) + iox::kChunkHeaderBytes;
+    const RawMessage raw{reader.channel, bytes, static_cast<size_t>(header.size), NowUtime()};
+    int delivered = 0;
+    for (const auto& sub : matching) {
+      if (!sub->active) continue;  // unsubscribed by an earlier handler
+      ++delivered;
+      try {
+        sub->handler(raw);
+      } catch (...) {
+        // The first error wins; the other handlers still get the message (as LCM and DDS do).
+        if (!pending_error) pending_error = std::current_exception();
+      }
+    }
+    return delivered;
+  }
+
+  Writer& WriterLocked(const std::string& channel) {
+    auto it = writers.find(channel);
+    if (it != writers.end()) return *it->second;
+    if (const std::string problem = iox::CheckChannelName(channel); !problem.empty())
+      throw BusError("iceoryx publish on " + url + ": " + problem);
+    iox::EnsureRuntime(url);
+    {
+      // A pattern subscription of this bus must read the channel before the first message goes out.
+      std::lock_guard<std::mutex> lock(mutex);
+      OnChannelLocked(channel);
+    }
+    auto writer = std::make_unique<Writer>();
+    iox_pub_options_t options;
+    iox_pub_options_init(&options);
+    options.historyCapacity = 0;  // volatile, as LCM
+    options.offerOnCreate = true;
+    options.subscriberTooSlowPolicy = ConsumerTooSlowPolicy_DISCARD_OLDEST_DATA;  // never block
+    writer->pub = iox_pub_init(&writer->storage, iox::kService, channel.c_str(), iox::kEvent, &options);
+    if (!writer->pub) throw BusError("iceoryx: cannot create a publisher for channel " + channel + " on " + url);
+    return *writers.emplace(channel, std::move(writer)).first->second;
+  }
+};
+
+IoxBus::IoxBus(const std::string& url) : impl_(std::make_shared<Impl>()) {
+  Impl& d = *impl_;
+  d.url = url;
+  d.ParseUrl(url);
+  iox::EnsureRuntime(url);
+  d.origin = (static_cast<uint64_t>(getpid()) << 20) | (++g_bus_count & 0xfffff);
+  d.waitset = iox_ws_init(&d.waitset_storage);
+  if (!d.waitset) throw BusError("iceoryx: cannot create a waitset for " + url);
+}
+
+IoxBus::~IoxBus() = default;
+
+std::string IoxBus::url() const { return impl_->url; }
+
+uint64_t IoxBus::dropped_messages() const { return impl_->dropped.load(); }
+
+void IoxBus::PublishRaw(const std::string& channel, const void* data, size_t size) {
+  Impl& d = *impl_;
+  if (static_cast<long double>(size) > static_cast<long double>(d.max_message))
+    throw BusError("iceoryx: a " + std::to_string(size) + "-byte message on " + channel +
+                   " is larger than RouDi's pools carry (max=" + std::to_string(d.max_message) + " bytes on " + d.url +
+                   "; raise bus.max_message_mb, or the pools of the RouDi you started)");
+  std::lock_guard<std::mutex> lock(d.publish_mutex);
+  Impl::Writer& writer = d.WriterLocked(channel);  // (registers with RouDi first)
+  // max= may be larger than the pools of the RouDi that runs (one started by hand): iceoryx would abort.
+  if (const size_t largest = iox::LargestChunkPayload(); largest > 0 && iox::kChunkHeaderBytes + size > largest)
+    throw BusError("iceoryx: a " + std::to_string(size) + "-byte message on " + channel +
+                   " is larger than the largest chunk of the running RouDi's pools (" + std::to_string(largest) +
+                   " bytes with a " + std::to_string(iox::kChunkHeaderBytes) + "-byte header, " + d.url +
+                   "): start RouDi with larger pools (`fusecal run` plans them from bus.max_message_mb)");
+  if (!writer.waited) {
+    // RouDi connects a new publisher to the existing subscribers in its discovery loop (every 100 ms);
+    // a message published before that is lost to them.
+    writer.waited = true;
+    const auto until = Clock::now() + kNewPublisherWait;
+    while (!iox_pub_has_subscribers(writer.pub) && Clock::now() < until)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  void* chunk = nullptr;
+  const uint32_t chunk_bytes = static_cast<uint32_t>(iox::kChunkHeaderBytes + size);
+  const iox_AllocationResult result = iox_pub_loan_chunk(writer.pub, &chunk, chunk_bytes);
+  if (result != AllocationResult_SUCCESS)
+    throw BusError("iceoryx: cannot publish a " + std::to_string(size) + "-byte message on " + channel + " over " +
+                   d.url + ": " + AllocationError(result));
+  iox::IoxChunkHeader header;
+  header.magic = iox::kChunkMagic;
+  header.origin = d.origin;
+  header.sequence = ++writer.sequence;
+  header.utime = NowUtime();
+  header.size = size;
+  std::memcpy(chunk, &header, sizeof header);
+  if (size > 0) std::memcpy(static_cast<uint8_t*>(chunk) + iox::kChunkHeaderBytes, data, size);  // the one copy
+  iox_pub_publish_chunk(writer.pub, chunk);
+}
+
+Subscription IoxBus::SubscribeRaw(const std::string& channel, RawHandler handler) {
+  Impl& d = *impl_;
+  auto sub = std::make_shared<Impl::Sub>();
+  sub->pattern = channel;
+  sub->plain = IsPlainName(channel);
+  if (!sub->plain) {
+    try {
+      sub->regex = std::regex(channel, std::regex::ECMAScript);
+    } catch (const std::regex_error& e) {
+      throw BusError("iceoryx subscribe: '" + channel + "' is not a valid regular expression: " + e.what());
+    }
+  }
+  sub->handler = std::move(handler);
+  std::vector<std::string> published;  // this bus's own channels (a pattern may want them)
+  if (!sub->plain) {
+    std::lock_guard<std::mutex> lock(d.publish_mutex);  // (taken before `mutex`, as in PublishRaw)
+    for (const auto& [name, writer] : d.writers) published.push_back(name);
+  }
+  {
+    std::lock_guard<std::mutex> lock(d.mutex);
+    if (sub->plain) d.EnsureReaderLocked(channel);  // (throws before the sub is registered)
+    d.subs.push_back(sub);
+    if (!sub->plain) {
+      for (const auto& name : published) d.OnChannelLocked(name);
+      d.DiscoverLocked();
+    }
+  }
+  std::weak_ptr<Impl> weak = impl_;
+  return Subscription([weak, sub]() {
+    sub->active = false;
+    auto impl = weak.lock();
+    if (!impl) return;
+    std::lock_guard<std::mutex> lock(impl->mutex);
+    impl->subs.erase(std::remove(impl->subs.begin(), impl->subs.end(), sub), impl->subs.end());
+  });
+}
+
+int IoxBus::Handle(int timeout_ms) {
+  Impl& d = *impl_;
+  const auto deadline = Clock::now() + std::chrono::milliseconds(std::max(timeout_ms, 0));
+  int delivered = 0;
+  for (;;) {
+    {
+      std::lock_guard<std::mutex> lock(d.mutex);
+      if (Clock::now() - d.last_discovery >= kDiscoveryInterval) d.DiscoverLocked();
+    }
+    delivered += d.Drain();
+    if (d.pending_error) {
+      std::exception_ptr error = d.pending_error;
+      d.pending_error = nullptr;
+      std::rethrow_exception(error);
+    }
+    const auto now = Clock::now();
+    if (delivered > 0 || now >= deadline) return delivered;
+    // Wake at the deadline, or sooner to look for new services of the pattern subscriptions.
+    auto wait = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline - now);
+    wait = std::min<std::chrono::nanoseconds>(wait, kDiscoveryInterval);
+    timespec timeout{static_cast<time_t>(wait.count() / 1000000000), static_cast<long>(wait.count() % 1000000000)};
+    iox_notification_info_t notifications[16];
+    uint64_t missed = 0;
+    iox_ws_timed_wait(d.waitset, timeout, notifications, 16, &missed);
+  }
+}
+
+}  // namespace fusecal
