@@ -254,7 +254,8 @@ void Run(const PointCloud& scan_i, const cv::Mat& image_i, const cv::Mat& image_
   t0 = Clock::now();
   TrackedImage tracked_image;
   const cv::Mat grey_j_tracked = ImageJForTracking(grey_j, camera, guess, settings.tracking, &tracked_image);
-  const KltTracker tracker(grey_i, grey_j_tracked, wrap, border_px, settings.tracking);
+  const KltTracker tracker(grey_i, grey_j_tracked, wrap, border_px, settings.tracking,
+                           RefineWindowPx(settings.tracking, pixel_angle));
   Correspondences tracks = TrackPass(selected, guess.T_ci_cj, camera, tracker, tracked_image, border_px);
   result->passes = 1;
   result->tracked_points = static_cast<int>(tracks.size());

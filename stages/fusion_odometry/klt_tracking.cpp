@@ -8,8 +8,13 @@
 namespace fusecal::fusion_odometry {
 
 KltTracker::KltTracker(const cv::Mat& grey_i, const cv::Mat& grey_j, bool wrap, int border_px,
-                       const TrackingSettings& settings)
-    : settings_(settings), wrap_(wrap), border_px_(border_px), width_(grey_i.cols), height_(grey_i.rows) {
+                       const TrackingSettings& settings, int refine_window_px)
+    : settings_(settings),
+      wrap_(wrap),
+      border_px_(border_px),
+      width_(grey_i.cols),
+      height_(grey_i.rows),
+      refine_window_px_(refine_window_px) {
   const cv::Size window(settings.window_px, settings.window_px);
   cv::Mat image_i = grey_i, image_j = grey_j;
   if (wrap_) {
@@ -71,8 +76,8 @@ void KltTracker::Track(const std::vector<cv::Point2f>& pixels_i, const std::vect
 }
 
 void KltTracker::RefineAtFullResolution(const std::vector<cv::Point2f>& from, std::vector<cv::Point2f>* to) const {
-  if (settings_.refine_window_px <= 0 || from.empty()) return;
-  const cv::Size window(settings_.refine_window_px, settings_.refine_window_px);
+  if (refine_window_px_ <= 0 || from.empty()) return;
+  const cv::Size window(refine_window_px_, refine_window_px_);
   const cv::TermCriteria criteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, settings_.max_iterations,
                                   settings_.epsilon_px);
   std::vector<cv::Point2f> refined = *to;
@@ -86,6 +91,13 @@ void KltTracker::RefineAtFullResolution(const std::vector<cv::Point2f>& from, st
     const cv::Point2f moved = refined[k] - (*to)[k];
     if (status[k] && moved.dot(moved) <= 1.0f) (*to)[k] = refined[k];
   }
+}
+
+int RefineWindowPx(const TrackingSettings& settings, double pixel_angle_rad) {
+  if (settings.refine_window_deg <= 0 || !(pixel_angle_rad > 0)) return 0;
+  const double pixels = settings.refine_window_deg * M_PI / 180.0 / pixel_angle_rad;
+  const int odd = std::max(5, 2 * static_cast<int>(std::lround((pixels - 1.0) / 2.0)) + 1);
+  return odd < settings.window_px ? odd : 0;
 }
 
 }  // namespace fusecal::fusion_odometry

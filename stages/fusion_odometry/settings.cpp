@@ -35,8 +35,7 @@ std::string SelectionSettings::Validate() const {
 
 std::string TrackingSettings::Validate() const {
   if (window_px < 5 || window_px > 101 || window_px % 2 == 0) return "window_px: must be odd, in [5, 101]";
-  if (refine_window_px != 0 && (refine_window_px < 5 || refine_window_px > window_px || refine_window_px % 2 == 0))
-    return "refine_window_px: must be 0 or odd, in [5, window_px]";
+  if (!(refine_window_deg >= 0 && refine_window_deg <= 90)) return "refine_window_deg: must be in [0, 90]";
   if (pyramid_levels < 0 || pyramid_levels > 8) return "pyramid_levels: must be in [0, 8]";
   if (max_iterations < 1) return "max_iterations: must be at least 1";
   if (!Positive(epsilon_px)) return "epsilon_px: must be positive";

@@ -192,6 +192,67 @@ TEST(KltTracking, TracksAcrossThePanoramaSeam) {
   }
 }
 
+// Where the flow curves (here: d(x) = 3 + k (x - centre)^2 px in every 64-column period), a
+// translation-only window lands where the flow averaged over it points, beyond the flow at its centre
+// by k times the window's second moment: the refinement with a smaller window (refine_window_deg)
+// shrinks that bias (settings.hpp).
+TEST(KltTracking, TheSmallWindowRefinementRemovesMostOfTheCurvedFlowBias) {
+  const int w = 512, h = 160, period = 64;
+  const double k = 0.005;
+  const auto flow = [&](double x) {
+    const double c = std::fmod(x, period) - period / 2.0;
+    return 3.0 + k * c * c;
+  };
+  const cv::Mat image_i = Texture(w, h, 21, false);
+  cv::Mat map_x(h, w, CV_32FC1), map_y(h, w, CV_32FC1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      map_x.at<float>(y, x) = static_cast<float>(x - flow(x));  // j(x) = i(x - d(x))
+      map_y.at<float>(y, x) = static_cast<float>(y);
+    }
+  cv::Mat image_j;
+  cv::remap(image_i, image_j, map_x, map_y, cv::INTER_CUBIC, cv::BORDER_REFLECT);
+  std::vector<cv::Point2f> from, predicted;
+  std::vector<double> expected;
+  for (int centre = period * 2 + period / 2; centre < w - period; centre += period)
+    for (int dx = -8; dx <= 8; dx += 4)
+      for (int y = 20; y < h - 20; y += 6) {
+        double x = centre + dx + 3.0;  // where u = centre + dx lands: x - d(x) = u (Newton)
+        for (int it = 0; it < 20; ++it) x -= (x - flow(x) - (centre + dx)) / (1.0 - 2.0 * k * (std::fmod(x, period) - period / 2.0));
+        from.emplace_back(static_cast<float>(centre + dx), static_cast<float>(y));
+        predicted.emplace_back(static_cast<float>(x + 0.8), static_cast<float>(y - 0.5));
+        expected.push_back(x);
+      }
+  const auto mean_error = [&](int refine_window_px) {
+    TrackingSettings settings;
+    settings.pyramid_levels = 0;
+    settings.epsilon_px = 0.001;
+    const KltTracker tracker(image_i, image_j, false, 8, settings, refine_window_px);
+    std::vector<cv::Point2f> tracked;
+    std::vector<unsigned char> ok;
+    tracker.Track(from, predicted, &tracked, &ok);
+    double sum = 0;
+    int n = 0;
+    for (size_t i = 0; i < from.size(); ++i)
+      if (ok[i]) sum += tracked[i].x - expected[i], ++n;
+    EXPECT_GT(n, int(from.size()) * 3 / 4);
+    return sum / std::max(n, 1);
+  };
+  const double plain = mean_error(0), refined = mean_error(7);
+  EXPECT_GT(plain, 0.04) << "the 15 px window should overshoot a flow that curves upwards";
+  EXPECT_LT(std::abs(refined), plain / 2) << "plain " << plain << " px, refined " << refined << " px";
+}
+
+TEST(KltTracking, TheRefinementWindowFollowsThePixelAngle) {
+  TrackingSettings settings;  // window_px 15, refine_window_deg 2.5
+  EXPECT_EQ(RefineWindowPx(settings, 2 * M_PI / 1024), 7);  // 0.35 deg per pixel
+  EXPECT_EQ(RefineWindowPx(settings, 2 * M_PI / 2048), 0);  // 15 px is 2.6 deg already
+  EXPECT_EQ(RefineWindowPx(settings, 1.0 / 721.5), 0);      // KITTI's camera: 2.5 deg is 31 px
+  EXPECT_EQ(RefineWindowPx(settings, 2 * M_PI / 256), 5);   // never below 5 px
+  settings.refine_window_deg = 0;
+  EXPECT_EQ(RefineWindowPx(settings, 2 * M_PI / 1024), 0);
+}
+
 TEST(Derotation, UndoesATurnOfAPanorama) {
   const int w = 512, h = 256;
   const auto camera = MakeCameraModel(Panorama(w));
