@@ -8,8 +8,8 @@
 #include <functional>
 #include <optional>
 #include <random>
-#include <regex>
 
+#include "runtime/channel_pattern.hpp"
 #include "runtime/reliable/lossy_link.hpp"
 #include "runtime/reliable/receiver.hpp"
 #include "runtime/reliable/sender.hpp"
@@ -43,16 +43,6 @@ void OnLcmMessage(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
 uint64_t RandomSenderId() {
   std::random_device device;
   return (uint64_t(device()) << 32) ^ uint64_t(device()) ^ uint64_t(NowUtime());
-}
-
-// Whether a channel matches an LCM subscription pattern (the whole name, as LCM matches).
-std::function<bool(const std::string&)> ChannelMatcher(const std::string& pattern) {
-  try {
-    auto re = std::make_shared<std::regex>(pattern, std::regex::extended);
-    return [re](const std::string& channel) { return std::regex_match(channel, *re); };
-  } catch (const std::regex_error&) {
-    return [pattern](const std::string& channel) { return channel == pattern; };
-  }
 }
 
 }  // namespace
@@ -122,7 +112,13 @@ Subscription LcmBus::SubscribeRaw(const std::string& channel, RawHandler handler
   slot->id = next_slot_id_++;
   slot->handler = std::move(handler);
   if (sender_)
-    slot->receiver = std::make_unique<reliable::ReliableReceiver>(options_->receiver, NowUtime(), ChannelMatcher(channel));
+    // HEARTBEATs name every channel of a publisher; the receiver keeps those this subscription matches
+    // (LCM's POSIX extended grammar).
+    slot->receiver = std::make_unique<reliable::ReliableReceiver>(
+        options_->receiver, NowUtime(),
+        [pattern = ChannelPattern(channel, "LCM", std::regex::extended)](const std::string& name) {
+          return pattern.Matches(name);
+        });
   slot->subscription = lcm_subscribe(lcm_, channel.c_str(), &OnLcmMessage, slot.get());
   if (!slot->subscription) throw BusError("LCM subscribe failed for channel " + channel);
   lcm_subscription_set_queue_capacity(slot->subscription, sender_ ? kReliableQueueCapacity : kQueueCapacity);

@@ -10,13 +10,13 @@
 #include <exception>
 #include <map>
 #include <mutex>
-#include <regex>
 #include <set>
 #include <thread>
 #include <vector>
 
 #include "dds/dds.h"
 #include "fusecal_bytes.h"
+#include "runtime/channel_pattern.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/dds/dds_envelope.hpp"
 #include "runtime/shared_memory.hpp"
@@ -80,12 +80,6 @@ struct DomainEntry {
 std::mutex g_domains_mutex;
 std::map<uint32_t, DomainEntry> g_domains;
 
-bool IsPlainName(const std::string& channel) {
-  return !channel.empty() && std::all_of(channel.begin(), channel.end(), [](unsigned char c) {
-    return std::isalnum(c) || c == '_' || c == '-' || c == '/';
-  });
-}
-
 int ParseInt(const std::string& url, const std::string& key, const std::string& value, int lo, int hi) {
   try {
     size_t used = 0;
@@ -101,14 +95,10 @@ int ParseInt(const std::string& url, const std::string& key, const std::string& 
 
 struct DdsBus::Impl {
   struct Sub {
-    std::string pattern;
-    bool plain = true;
-    std::regex regex;
+    ChannelPattern channel;
     RawHandler handler;
     bool active = true;
-    bool Matches(const std::string& channel) const {
-      return plain ? channel == pattern : std::regex_match(channel, regex);
-    }
+    bool Matches(const std::string& name) const { return channel.Matches(name); }
   };
   // Samples are taken into memory kept from one take to the next: a 6 MB message is copied into the
   // buffer of an earlier one instead of a fresh allocation (and its page faults) per message. Bulk
@@ -467,21 +457,11 @@ void DdsBus::PublishRaw(const std::string& channel, const void* data, size_t siz
 
 Subscription DdsBus::SubscribeRaw(const std::string& channel, RawHandler handler) {
   Impl& d = *impl_;
-  auto sub = std::make_shared<Impl::Sub>();
-  sub->pattern = channel;
-  sub->plain = IsPlainName(channel);
-  if (!sub->plain) {
-    try {
-      sub->regex = std::regex(channel, std::regex::ECMAScript);
-    } catch (const std::regex_error& e) {
-      throw BusError("DDS subscribe: '" + channel + "' is not a valid regular expression: " + e.what());
-    }
-  }
-  sub->handler = std::move(handler);
+  auto sub = std::make_shared<Impl::Sub>(Impl::Sub{ChannelPattern(channel, "DDS"), std::move(handler)});
   {
     std::lock_guard<std::mutex> lock(d.mutex);
     d.subs.push_back(sub);
-    if (sub->plain) {
+    if (sub->channel.plain()) {
       d.EnsureReaderLocked(channel);
     } else {
       d.EnsurePublicationsReaderLocked();

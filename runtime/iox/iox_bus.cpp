@@ -11,12 +11,12 @@
 #include <exception>
 #include <map>
 #include <mutex>
-#include <regex>
 #include <thread>
 #include <vector>
 
 #include "runtime/iox/iceoryx_c.hpp"
 #include "iceoryx_posh/mepoo/chunk_header.hpp"
+#include "runtime/channel_pattern.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/iox/iox_chunk.hpp"
 #include "runtime/iox/iox_runtime.hpp"
@@ -41,12 +41,6 @@ std::atomic<uint64_t> g_bus_count{0};
 
 bool IsBulkChannel(const std::string& channel) {
   return channel == channels::kCameraImage || channel == channels::kLidarScan || channel == channels::kStation;
-}
-
-bool IsPlainName(const std::string& channel) {
-  return !channel.empty() && std::all_of(channel.begin(), channel.end(), [](unsigned char c) {
-    return std::isalnum(c) || c == '_' || c == '-' || c == '/';
-  });
 }
 
 long ParseInt(const std::string& url, const std::string& key, const std::string& value, long lo, long hi) {
@@ -84,14 +78,10 @@ std::string AllocationError(iox_AllocationResult result) {
 
 struct IoxBus::Impl {
   struct Sub {
-    std::string pattern;
-    bool plain = true;
-    std::regex regex;
+    ChannelPattern channel;
     RawHandler handler;
     bool active = true;
-    bool Matches(const std::string& channel) const {
-      return plain ? channel == pattern : std::regex_match(channel, regex);
-    }
+    bool Matches(const std::string& name) const { return channel.Matches(name); }
   };
   // iceoryx keeps pointers to its storage: each lives at a fixed address until deinit.
   struct Reader {
@@ -207,7 +197,7 @@ struct IoxBus::Impl {
 
   bool HasPatternLocked() const {
     for (const auto& sub : subs)
-      if (sub->active && !sub->plain) return true;
+      if (sub->active && !sub->channel.plain()) return true;
     return false;
   }
 
@@ -351,27 +341,17 @@ void IoxBus::PublishRaw(const std::string& channel, const void* data, size_t siz
 
 Subscription IoxBus::SubscribeRaw(const std::string& channel, RawHandler handler) {
   Impl& d = *impl_;
-  auto sub = std::make_shared<Impl::Sub>();
-  sub->pattern = channel;
-  sub->plain = IsPlainName(channel);
-  if (!sub->plain) {
-    try {
-      sub->regex = std::regex(channel, std::regex::ECMAScript);
-    } catch (const std::regex_error& e) {
-      throw BusError("iceoryx subscribe: '" + channel + "' is not a valid regular expression: " + e.what());
-    }
-  }
-  sub->handler = std::move(handler);
+  auto sub = std::make_shared<Impl::Sub>(Impl::Sub{ChannelPattern(channel, "iceoryx"), std::move(handler)});
   std::vector<std::string> published;  // this bus's own channels (a pattern may want them)
-  if (!sub->plain) {
+  if (!sub->channel.plain()) {
     std::lock_guard<std::mutex> lock(d.publish_mutex);  // (taken before `mutex`, as in PublishRaw)
     for (const auto& [name, writer] : d.writers) published.push_back(name);
   }
   {
     std::lock_guard<std::mutex> lock(d.mutex);
-    if (sub->plain) d.EnsureReaderLocked(channel);  // (throws before the sub is registered)
+    if (sub->channel.plain()) d.EnsureReaderLocked(channel);  // (throws before the sub is registered)
     d.subs.push_back(sub);
-    if (!sub->plain) {
+    if (!sub->channel.plain()) {
       for (const auto& name : published) d.OnChannelLocked(name);
       d.DiscoverLocked();
     }

@@ -64,6 +64,29 @@ class Pipeline : public testing::Test {
     EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-6) << context;
     EXPECT_LT(j["trans_err_m"].get<double>(), 1e-6) << context;
   }
+  // RouDi killed with SIGKILL once the stages are up and the first motions are out, in a `fusecal run` on
+  // `bus`: RouDi and every stage attached to it come back, and the answer is calibrate's.
+  static void ExpectRoudiKilledMidRunKeepsTheAnswer(const std::string& bus, const std::string& out) {
+    const std::string command = kFusecal + " run --log " + log_ + " --speed 0 --bus '" + bus + "' --out " + out;
+    const pid_t pid = StartInBackground(command, out + ".txt");
+    ASSERT_GE(pid, 0);
+    // Kill RouDi once the stages are up and the first motions are out.
+    bool killed = false;
+    for (int i = 0; i < 400 && !killed; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      if (ReadAll(out + ".txt").find("motions lidar 1") == std::string::npos) continue;
+      killed = RunCommand("pkill -9 -x iox-roudi").exit_code == 0;
+    }
+    ASSERT_TRUE(killed) << "RouDi or the first motion never appeared:\n" << ReadAll(out + ".txt");
+    int status = 0;
+    waitpid(pid, &status, 0);
+    const std::string output = ReadAll(out + ".txt");
+    EXPECT_NE(output.find("iox-roudi exited"), std::string::npos) << output;
+    EXPECT_NE(output.find("every stage restarted after RouDi"), std::string::npos) << output;
+    EXPECT_NE(output.find("RouDi restarts: 1"), std::string::npos) << output;
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+    ExpectSameAnswerAsCalibrate(out, output);
+  }
   static std::string log_;
 };
 std::string Pipeline::log_;
@@ -152,27 +175,7 @@ TEST_F(Pipeline, SharedMemoryThatDoesNotFitFallsBackToTheNetworkPath) {
 // RouDi killed in the middle of the run: stopping or losing RouDi ends (or cuts off) every stage
 // attached to it; the supervisor starts RouDi and all stages again, and the answer stays the same.
 TEST_F(Pipeline, RoudiKilledMidRunComesBackWithTheStagesAndTheAnswerStays) {
-  const std::string out = Temp("roudi-killed");
-  const std::string command =
-      kFusecal + " run --log " + log_ + " --speed 0 --bus 'dds://?domain=26&shm=1' --out " + out;
-  const pid_t pid = StartInBackground(command, out + ".txt");
-  ASSERT_GE(pid, 0);
-  // Kill RouDi once the stages are up and the first motions are out.
-  bool killed = false;
-  for (int i = 0; i < 400 && !killed; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    if (ReadAll(out + ".txt").find("motions lidar 1") == std::string::npos) continue;
-    killed = RunCommand("pkill -9 -x iox-roudi").exit_code == 0;
-  }
-  ASSERT_TRUE(killed) << "RouDi or the first motion never appeared:\n" << ReadAll(out + ".txt");
-  int status = 0;
-  waitpid(pid, &status, 0);
-  const std::string output = ReadAll(out + ".txt");
-  EXPECT_NE(output.find("iox-roudi exited"), std::string::npos) << output;
-  EXPECT_NE(output.find("every stage restarted after RouDi"), std::string::npos) << output;
-  EXPECT_NE(output.find("RouDi restarts: 1"), std::string::npos) << output;
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
-  ExpectSameAnswerAsCalibrate(out, output);
+  ExpectRoudiKilledMidRunKeepsTheAnswer("dds://?domain=26&shm=1", Temp("roudi-killed"));
 }
 #endif
 
@@ -193,25 +196,7 @@ TEST_F(Pipeline, SeparateProcessesOverIoxAgreeWithCalibrate) {
 // RouDi killed in the middle of an iox:// run: the stages and the bridge are cut off from the new RouDi;
 // the supervisor starts RouDi and all of them again, and the answer stays the same.
 TEST_F(Pipeline, RoudiKilledMidIoxRunComesBackWithTheStagesAndTheAnswerStays) {
-  const std::string out = Temp("roudi-killed-iox");
-  const std::string command = kFusecal + " run --log " + log_ + " --speed 0 --bus 'iox://' --out " + out;
-  const pid_t pid = StartInBackground(command, out + ".txt");
-  ASSERT_GE(pid, 0);
-  bool killed = false;
-  for (int i = 0; i < 400 && !killed; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    if (ReadAll(out + ".txt").find("motions lidar 1") == std::string::npos) continue;
-    killed = RunCommand("pkill -9 -x iox-roudi").exit_code == 0;
-  }
-  ASSERT_TRUE(killed) << "RouDi or the first motion never appeared:\n" << ReadAll(out + ".txt");
-  int status = 0;
-  waitpid(pid, &status, 0);
-  const std::string output = ReadAll(out + ".txt");
-  EXPECT_NE(output.find("iox-roudi exited"), std::string::npos) << output;
-  EXPECT_NE(output.find("every stage restarted after RouDi"), std::string::npos) << output;
-  EXPECT_NE(output.find("RouDi restarts: 1"), std::string::npos) << output;
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
-  ExpectSameAnswerAsCalibrate(out, output);
+  ExpectRoudiKilledMidRunKeepsTheAnswer("iox://", Temp("roudi-killed-iox"));
 }
 #endif
 
