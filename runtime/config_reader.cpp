@@ -67,6 +67,19 @@ void ConfigReader::FailSection(const std::string& what) const {
   throw ConfigError(source_ + ": " + (prefix_.empty() ? std::string("") : "'" + prefix_ + "': ") + what);
 }
 
+void ConfigReader::FailIfInvalid(const std::string& problem, const std::map<std::string, std::string>& fields) const {
+  if (problem.empty()) return;
+  for (const std::string& key : read_) {
+    const auto renamed = fields.find(key);
+    const std::string& field = renamed == fields.end() ? key : renamed->second;
+    if (problem.compare(0, field.size(), field) != 0) continue;
+    const std::string rest = problem.substr(field.size());
+    if (rest.rfind(": ", 0) == 0) Fail(key, rest.substr(2));
+    if (rest.rfind(" must", 0) == 0) Fail(key, rest.substr(1));
+  }
+  FailSection(problem);
+}
+
 void ConfigReader::Fail(const std::string& key, const std::string& what) const {
   throw ConfigError(source_ + ": '" + PathOf(key) + "' " + what);
 }

@@ -5,12 +5,14 @@
 //   r.Get("max_range_m", &settings.max_range_m, Positive());
 //   ConfigReader lidar = r.Child("lidar");   // optional section: empty reader if absent
 //   r.Finish();                              // throws ConfigError on keys nobody read
+//   r.FailIfInvalid(settings.Validate());    // ranges: the settings' own Validate() says what is allowed
 #pragma once
 
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <functional>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -74,6 +76,11 @@ class ConfigReader {
   [[noreturn]] void Fail(const std::string& key, const std::string& what) const;
   // For checks on the section as a whole (e.g. a core's Validate() message, which names the field).
   [[noreturn]] void FailSection(const std::string& what) const;
+  // Throws ConfigError for the message of a settings struct's Validate(); nothing when it is empty. When
+  // the message is about a key of this node ("<field>: <what>" or "<field> must ..."), the error names the
+  // key as Get() does ("'lidar_icp.min_fitness' must be in [0, 1]"), else the section. `fields` gives the
+  // field Validate() names for a key where the two differ, e.g. {{"ratio", "matching.ratio"}}.
+  void FailIfInvalid(const std::string& problem, const std::map<std::string, std::string>& fields = {}) const;
 
  private:
   YAML::Node node_;

@@ -133,9 +133,9 @@ ImageFeatures ExtractImageFeatures(const cv::Mat& image, const CameraModel& came
   ImageFeatures out;
   out.width = image.cols;
   out.height = image.rows;
-  auto finish = [&](std::string reason) {
-    out.failure_reason = std::move(reason);
-    if (!out.ok()) {
+  auto finish = [&](Failure<FeatureFailure> failure) {
+    out.failure_reason = std::move(failure);
+    if (!out.usable()) {
       out.keypoints.clear();
       out.descriptors = cv::Mat();
       out.bearings.clear();
@@ -143,18 +143,21 @@ ImageFeatures ExtractImageFeatures(const cv::Mat& image, const CameraModel& came
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
   };
-  if (std::string e = settings.Validate(); !e.empty()) return finish("invalid feature settings: " + e);
-  if (std::string e = CheckImage(image, camera); !e.empty()) return finish(e);
+  if (std::string e = settings.Validate(); !e.empty())
+    return finish({FeatureFailure::kInvalidSettings, "invalid feature settings: " + e});
+  if (std::string e = CheckImage(image, camera); !e.empty()) return finish({FeatureFailure::kBadImage, e});
   try {
     const cv::Mat grey = ToGrey(image);
     const cv::Mat mask = camera_frontend::FeatureMask(grey, camera, settings);
-    if (cv::countNonZero(mask) == 0) return finish("no features: the whole image is blank or masked");
+    if (cv::countNonZero(mask) == 0)
+      return finish({FeatureFailure::kNoFeatures, "no features: the whole image is blank or masked"});
 
     std::vector<cv::KeyPoint> keypoints;
     cv::Mat descriptors;
     DetectScaled(grey, mask, camera, settings, &keypoints, &descriptors);
     out.detected = static_cast<int>(keypoints.size());
-    if (keypoints.empty()) return finish("no features: AKAZE found no keypoint (blank or textureless image)");
+    if (keypoints.empty())
+      return finish({FeatureFailure::kNoFeatures, "no features: AKAZE found no keypoint (blank or textureless image)"});
 
     const std::vector<int> selected = camera_frontend::SelectKeypointsByGrid(
         keypoints, image.cols, image.rows, settings.max_features, settings.grid_cols, settings.grid_rows);
@@ -169,7 +172,7 @@ ImageFeatures ExtractImageFeatures(const cv::Mat& image, const CameraModel& came
     }
     return finish({});
   } catch (const std::exception& e) {
-    return finish(std::string("feature extraction failed: ") + e.what());
+    return finish({FeatureFailure::kInternalError, std::string("feature extraction failed: ") + e.what()});
   }
 }
 

@@ -11,8 +11,18 @@
 
 #include "camera_frontend/settings.hpp"
 #include "foundation/camera_model.hpp"
+#include "foundation/stage_result.hpp"
 
 namespace fusecal {
+
+// Why the features of an image are not usable.
+enum class FeatureFailure {
+  kNone,             // usable (also a default-constructed, empty set)
+  kInvalidSettings,  // settings.Validate() failed
+  kBadImage,         // empty, of an unsupported type, or not the camera's size
+  kNoFeatures,       // blank or masked image, or AKAZE found no keypoint
+  kInternalError,    // an exception inside the extraction
+};
 
 struct ImageFeatures {
   int width = 0;  // size of the image they come from
@@ -21,10 +31,10 @@ struct ImageFeatures {
   cv::Mat descriptors;                    // CV_8U, one binary (MLDB) descriptor per row
   std::vector<Eigen::Vector3d> bearings;  // unit bearing of each keypoint, camera frame
   int detected = 0;                       // keypoints AKAZE found in the mask, before the budget
-  std::string failure_reason;             // non-empty: bad image; the vectors are empty
+  Failure<FeatureFailure> failure_reason;  // when not usable the vectors are empty
   double seconds = 0.0;
 
-  bool ok() const { return failure_reason.empty(); }
+  bool usable() const { return failure_reason.code == FeatureFailure::kNone; }
 };
 
 // Checks the image against the camera (size, type): empty string when usable, else why not.

@@ -20,6 +20,7 @@ namespace {
 
 using camera_frontend::Bearings;
 using Clock = std::chrono::steady_clock;
+using Code = RelativePoseFailure;
 
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -71,18 +72,18 @@ EssentialModel RefineEssential(const Bearings& f_i, const Bearings& f_j,
   return m;
 }
 
-// Empty when the features can be used with this camera, else why not.
-std::string CheckFeatures(const ImageFeatures& fi, const ImageFeatures& fj, const CameraModel& camera) {
-  if (!fi.ok()) return "image i: " + fi.failure_reason;
-  if (!fj.ok()) return "image j: " + fj.failure_reason;
+// kNone when the features can be used with this camera, else why not.
+Failure<Code> CheckFeatures(const ImageFeatures& fi, const ImageFeatures& fj, const CameraModel& camera) {
+  if (!fi.usable()) return {Code::kFeaturesFailed, "image i: " + fi.failure_reason.text};
+  if (!fj.usable()) return {Code::kFeaturesFailed, "image j: " + fj.failure_reason.text};
   for (const ImageFeatures* f : {&fi, &fj}) {
     if (f->width != camera.width() || f->height != camera.height())
-      return "features come from a " + std::to_string(f->width) + "x" + std::to_string(f->height) +
-             " image but the camera model expects " + std::to_string(camera.width()) + "x" +
-             std::to_string(camera.height());
+      return {Code::kFeaturesMismatch, "features come from a " + std::to_string(f->width) + "x" +
+                                           std::to_string(f->height) + " image but the camera model expects " +
+                                           std::to_string(camera.width()) + "x" + std::to_string(camera.height())};
     if (f->bearings.size() != f->keypoints.size() ||
         f->descriptors.rows != static_cast<int>(f->keypoints.size()))
-      return "inconsistent features: keypoints, descriptors and bearings differ in number";
+      return {Code::kFeaturesMismatch, "inconsistent features: keypoints, descriptors and bearings differ in number"};
   }
   return {};
 }
@@ -181,7 +182,7 @@ void UseEssentialModel(const EssentialModel& model, RelativePoseResult* r) {
 void UseRotationOnly(const EssentialModel& model, const camera_frontend::RotationOnlyFit& rotation_fit,
                      const std::string& unreliable, RelativePoseResult* r) {
   r->translation_unreliable = true;
-  r->failure_reason = "translation unreliable (near-pure rotation): " + unreliable;
+  r->failure_reason = {Code::kTranslationUnreliable, "translation unreliable (near-pure rotation): " + unreliable};
   // The refined essential rotation stays unbiased when a little translation is left, where the
   // rotation-only fit absorbs the parallax; it is kept unless it is not the rotation-only one (under pure
   // rotation the chirality test of RANSAC is blind and may pick the twisted pair, 180 degrees away).
@@ -215,14 +216,14 @@ RelativePoseResult Estimate(const ImageFeatures& fi, const ImageFeatures& fj, co
   RelativePoseResult r;
   r.features_i = static_cast<int>(fi.keypoints.size());
   r.features_j = static_cast<int>(fj.keypoints.size());
-  auto fail = [&](std::string reason, bool too_few = false) {
+  auto fail = [&](Code code, std::string text) {
     r.valid = false;
-    r.too_few_inliers = too_few;
-    r.failure_reason = std::move(reason);
+    r.too_few_inliers = code == Code::kTooFewMatches || code == Code::kTooFewInliers;
+    r.failure_reason = {code, std::move(text)};
     return r;
   };
-  if (std::string e = s.Validate(); !e.empty()) return fail("invalid settings: " + e);
-  if (std::string e = CheckFeatures(fi, fj, camera); !e.empty()) return fail(e);
+  if (std::string e = s.Validate(); !e.empty()) return fail(Code::kInvalidSettings, "invalid settings: " + e);
+  if (Failure<Code> e = CheckFeatures(fi, fj, camera); e.code != Code::kNone) return fail(e.code, e.text);
 
   // Matching (paper III-A-1).
   auto t0 = Clock::now();
@@ -230,7 +231,7 @@ RelativePoseResult Estimate(const ImageFeatures& fi, const ImageFeatures& fj, co
       camera_frontend::MatchDescriptors(fi.descriptors, fj.descriptors, s.matching);
   r.seconds_matching = SecondsSince(t0);
   r.matches = static_cast<int>(matches.size());
-  if (r.matches < s.min_inliers) return fail(TooFewMatchesReason(r, s.min_inliers), true);
+  if (r.matches < s.min_inliers) return fail(Code::kTooFewMatches, TooFewMatchesReason(r, s.min_inliers));
   Bearings f_i, f_j;
   MatchedBearings(matches, fi, fj, &f_i, &f_j);
 
@@ -250,7 +251,7 @@ RelativePoseResult Estimate(const ImageFeatures& fi, const ImageFeatures& fj, co
   const std::vector<int>& support = (model.ok && !rotation_explains_more) ? model.inliers : rot.inliers;
   if (static_cast<int>(support.size()) < s.min_inliers) {
     r.seconds_refinement = SecondsSince(t0);
-    return fail(TooFewInliersReason(model, rot, s.min_inliers, r.matches), true);
+    return fail(Code::kTooFewInliers, TooFewInliersReason(model, rot, s.min_inliers, r.matches));
   }
   const auto rotation_fit = camera_frontend::FitRotationOnly(
       f_i, f_j, support, loss, s.refinement.max_iterations, s.refinement.compute_covariance);
@@ -262,6 +263,7 @@ RelativePoseResult Estimate(const ImageFeatures& fi, const ImageFeatures& fj, co
       model, rotation_explains_more, rotation_fit.median_residual_rad, epipolar, pixel, s);
 
   r.valid = true;
+  r.failure_reason = {};
   if (unreliable.empty()) {
     UseEssentialModel(model, &r);
     SetInliers(model.inliers, matches, fi, fj, &r);
@@ -282,10 +284,10 @@ RelativePoseResult EstimateRelativePose(const ImageFeatures& features_i, const I
     r = Estimate(features_i, features_j, camera, settings);
   } catch (const std::exception& e) {
     r = RelativePoseResult();
-    r.failure_reason = std::string("internal error: ") + e.what();
+    r.failure_reason = {Code::kInternalError, std::string("internal error: ") + e.what()};
   } catch (...) {
     r = RelativePoseResult();
-    r.failure_reason = "internal error: unknown exception";
+    r.failure_reason = {Code::kInternalError, "internal error: unknown exception"};
   }
   r.seconds = SecondsSince(start);
   return r;
@@ -296,7 +298,7 @@ RelativePoseResult EstimateRelativePose(const cv::Mat& image_i, const cv::Mat& i
   const auto start = Clock::now();
   RelativePoseResult r;
   if (std::string e = settings.Validate(); !e.empty()) {
-    r.failure_reason = "invalid settings: " + e;
+    r.failure_reason = {Code::kInvalidSettings, "invalid settings: " + e};
     r.seconds = SecondsSince(start);
     return r;
   }

@@ -24,10 +24,28 @@
 #include "camera_frontend/settings.hpp"
 #include "foundation/camera_model.hpp"
 #include "foundation/se3.hpp"
+#include "foundation/stage_result.hpp"
 
 namespace fusecal {
 
+// Why a relative pose is not usable (rotation and translation direction both).
+enum class RelativePoseFailure {
+  kNone,                   // usable
+  kNotRun,                 // a default-constructed result
+  kInvalidSettings,        // settings.Validate() failed
+  kFeaturesFailed,         // the features of image i or j are not usable (their reason follows "image i: ")
+  kFeaturesMismatch,       // features of another camera size, or keypoints, descriptors and bearings differ
+  kTooFewMatches,          // fewer matches than min_inliers (too_few_inliers)
+  kTooFewInliers,          // no model with min_inliers inliers (too_few_inliers)
+  kTranslationUnreliable,  // near-pure rotation: R is valid, the translation direction is not
+  kInternalError,          // an exception inside the core
+};
+
 struct RelativePoseResult {
+  // Rotation and translation direction are both usable: A() is the motion.
+  bool usable() const { return failure_reason.code == RelativePoseFailure::kNone; }
+  // The same as usable().
+
   // valid: R is usable. The translation direction is usable too unless translation_unreliable.
   bool valid = false;
   // Fewer inliers than settings.min_inliers (or fewer matches): the motion is not valid.
@@ -36,9 +54,8 @@ struct RelativePoseResult {
   // the rotation-only fit f_i = R f_j when there is no consistent essential matrix); t_unit is the
   // essential-matrix direction if there is one (else zero) and must not be used.
   bool translation_unreliable = false;
-  // Empty when valid with a reliable translation; otherwise why not (bad input, too few inliers, no
-  // parallax, ...).
-  std::string failure_reason;
+  // kNone (empty text) when usable; otherwise why not (bad input, too few inliers, no parallax, ...).
+  Failure<RelativePoseFailure> failure_reason{RelativePoseFailure::kNotRun, {}};
 
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();   // rotation of A = T_ci_cj
   Eigen::Vector3d t_unit = Eigen::Vector3d::Zero();  // direction of the translation of A (unit, or zero)
@@ -73,8 +90,6 @@ struct RelativePoseResult {
   std::vector<cv::Point2f> inlier_pixels_i;
   std::vector<cv::Point2f> inlier_pixels_j;
 
-  // Rotation and translation direction are both usable.
-  bool motion_valid() const { return valid && !translation_unreliable; }
   // [R | t_unit] as a transform (translation of unit length, no scale).
   Isometry3 A() const { return MakeIsometry(R, t_unit); }
 };

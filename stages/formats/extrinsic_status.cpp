@@ -1,52 +1,61 @@
 #include "formats/extrinsic_status.hpp"
 
 #include <algorithm>
-#include <array>
-#include <stdexcept>
-#include <utility>
 
 namespace fusecal {
 
-namespace {
-
-constexpr std::array<std::pair<int8_t, const char*>, 6> kStatusNames{{
-    {extrinsic_t::STATUS_INITIAL, "initial"},
-    {extrinsic_t::STATUS_REFINING, "refining"},
-    {extrinsic_t::STATUS_CONVERGED, "converged"},
-    {extrinsic_t::STATUS_NOT_CONVERGED, "not_converged"},
-    {extrinsic_t::STATUS_DEGENERATE, "degenerate"},
-    {extrinsic_t::STATUS_FAILED, "failed"},
-}};
-
-constexpr std::array<std::pair<int8_t, const char*>, 4> kObservabilityNames{{
-    {extrinsic_t::OBSERVABILITY_OK, "ok"},
-    {extrinsic_t::OBSERVABILITY_ROTATION_DEGENERATE, "rotation_degenerate"},
-    {extrinsic_t::OBSERVABILITY_TRANSLATION_PARTLY_UNOBSERVABLE, "translation_partly_unobservable"},
-    {extrinsic_t::OBSERVABILITY_TOO_FEW_MOTIONS, "too_few_motions"},
-}};
-
-template <size_t N>
-const char* NameOf(const std::array<std::pair<int8_t, const char*>, N>& names, int8_t value) {
-  for (const auto& [v, name] : names)
-    if (v == value) return name;
-  return "unknown";
+const char* ExtrinsicStatusName(int8_t status) {
+  if (status == extrinsic_t::STATUS_INITIAL) return "initial";
+  if (status == extrinsic_t::STATUS_REFINING) return "refining";
+  const std::optional<HandEyeStatus> verdict = HandEyeStatusOf(status);
+  return verdict ? Name(*verdict) : "unknown";
 }
 
-template <size_t N>
-int8_t ValueOf(const std::array<std::pair<int8_t, const char*>, N>& names, const std::string& name,
-               const char* what) {
-  for (const auto& [v, n] : names)
-    if (name == n) return v;
-  throw std::invalid_argument(std::string("unknown extrinsic ") + what + " '" + name + "'");
+const char* ObservabilityName(int8_t observability) {
+  const std::optional<Observability> verdict = ObservabilityOf(observability);
+  return verdict ? Name(*verdict) : "unknown";
 }
 
-}  // namespace
+int8_t ToExtrinsicStatus(HandEyeStatus status) {
+  switch (status) {
+    case HandEyeStatus::kConverged: return extrinsic_t::STATUS_CONVERGED;
+    case HandEyeStatus::kNotConverged: return extrinsic_t::STATUS_NOT_CONVERGED;
+    case HandEyeStatus::kDegenerate: return extrinsic_t::STATUS_DEGENERATE;
+    case HandEyeStatus::kFailed: return extrinsic_t::STATUS_FAILED;
+  }
+  return extrinsic_t::STATUS_FAILED;
+}
 
-const char* ExtrinsicStatusName(int8_t status) { return NameOf(kStatusNames, status); }
-const char* ObservabilityName(int8_t observability) { return NameOf(kObservabilityNames, observability); }
-int8_t ExtrinsicStatusFromName(const std::string& name) { return ValueOf(kStatusNames, name, "status"); }
-int8_t ObservabilityFromName(const std::string& name) {
-  return ValueOf(kObservabilityNames, name, "observability");
+int8_t ToExtrinsicObservability(Observability observability) {
+  switch (observability) {
+    case Observability::kOk: return extrinsic_t::OBSERVABILITY_OK;
+    case Observability::kRotationDegenerate: return extrinsic_t::OBSERVABILITY_ROTATION_DEGENERATE;
+    case Observability::kTranslationPartlyUnobservable:
+      return extrinsic_t::OBSERVABILITY_TRANSLATION_PARTLY_UNOBSERVABLE;
+    case Observability::kTooFewMotions: return extrinsic_t::OBSERVABILITY_TOO_FEW_MOTIONS;
+  }
+  return extrinsic_t::OBSERVABILITY_TOO_FEW_MOTIONS;
+}
+
+std::optional<HandEyeStatus> HandEyeStatusOf(int8_t status) {
+  switch (status) {
+    case extrinsic_t::STATUS_CONVERGED: return HandEyeStatus::kConverged;
+    case extrinsic_t::STATUS_NOT_CONVERGED: return HandEyeStatus::kNotConverged;
+    case extrinsic_t::STATUS_DEGENERATE: return HandEyeStatus::kDegenerate;
+    case extrinsic_t::STATUS_FAILED: return HandEyeStatus::kFailed;
+    default: return std::nullopt;
+  }
+}
+
+std::optional<Observability> ObservabilityOf(int8_t observability) {
+  switch (observability) {
+    case extrinsic_t::OBSERVABILITY_OK: return Observability::kOk;
+    case extrinsic_t::OBSERVABILITY_ROTATION_DEGENERATE: return Observability::kRotationDegenerate;
+    case extrinsic_t::OBSERVABILITY_TRANSLATION_PARTLY_UNOBSERVABLE:
+      return Observability::kTranslationPartlyUnobservable;
+    case extrinsic_t::OBSERVABILITY_TOO_FEW_MOTIONS: return Observability::kTooFewMotions;
+    default: return std::nullopt;
+  }
 }
 
 bool UsesMotionTo(const extrinsic_t& e, int station_j) {

@@ -17,6 +17,7 @@ namespace fusecal::fusion_odometry {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using Code = FusionOdometryFailure;
 
 double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -90,24 +91,29 @@ Correspondences TrackPass(const std::vector<ScanPoint>& selected, const Isometry
   return out;
 }
 
-void Fail(FusionOdometryResult* result, const std::string& reason) {
-  result->converged = false;
-  result->status = status::kFailed;
-  result->failure_reason = reason;
+// Records the outcome: the status, and usable when `failure` is kNone.
+void Conclude(const char* status, Failure<Code> failure, FusionOdometryResult* result) {
+  result->status = status;
+  result->failure_reason = std::move(failure);
 }
 
-// Empty when the inputs can be used, else why not (the input checks of Run, in order).
-std::string InputProblem(const PointCloud& scan_i, const cv::Mat& image_i, const cv::Mat& image_j,
-                         const CameraModel& camera, const Isometry3& T_camera_lidar, const MotionGuess& guess,
-                         const FusionOdometrySettings& settings) {
-  if (const std::string e = settings.Validate(); !e.empty()) return "invalid settings: " + e;
-  if (camera.width() <= 0 || camera.height() <= 0) return "camera has no image size";
-  if (std::string e = CheckImage(image_i, camera, "i"); !e.empty()) return e;
-  if (std::string e = CheckImage(image_j, camera, "j"); !e.empty()) return e;
+void Fail(FusionOdometryResult* result, Code code, const std::string& reason) {
+  Conclude(status::kFailed, {code, reason}, result);
+}
+
+// kNone when the inputs can be used, else why not (the input checks of Run, in order).
+Failure<Code> InputProblem(const PointCloud& scan_i, const cv::Mat& image_i, const cv::Mat& image_j,
+                           const CameraModel& camera, const Isometry3& T_camera_lidar, const MotionGuess& guess,
+                           const FusionOdometrySettings& settings) {
+  if (const std::string e = settings.Validate(); !e.empty()) return {Code::kInvalidSettings, "invalid settings: " + e};
+  if (camera.width() <= 0 || camera.height() <= 0) return {Code::kInvalidInput, "camera has no image size"};
+  if (std::string e = CheckImage(image_i, camera, "i"); !e.empty()) return {Code::kInvalidInput, e};
+  if (std::string e = CheckImage(image_j, camera, "j"); !e.empty()) return {Code::kInvalidInput, e};
   if (!IsValidTransform(T_camera_lidar, 1e-6))
-    return "invalid extrinsic T_camera_lidar (non-finite or not a rigid transform)";
-  if (!IsValidTransform(guess.T_ci_cj, 1e-6)) return "invalid motion guess (non-finite or not a rigid transform)";
-  if (scan_i.empty()) return "empty scan";
+    return {Code::kInvalidInput, "invalid extrinsic T_camera_lidar (non-finite or not a rigid transform)"};
+  if (!IsValidTransform(guess.T_ci_cj, 1e-6))
+    return {Code::kInvalidInput, "invalid motion guess (non-finite or not a rigid transform)"};
+  if (scan_i.empty()) return {Code::kInvalidInput, "empty scan"};
   return {};
 }
 
@@ -120,7 +126,7 @@ bool SelectPoints(const PointCloud& scan_i, const cv::Mat& grey_i, const CameraM
   result->projected_points = visible.projected;
   result->visible_points = static_cast<int>(visible.points.size());
   if (visible.projected == 0) {
-    Fail(result, "no scan point projects into image i (check the extrinsic T_camera_lidar)");
+    Fail(result, Code::kNothingProjects, "no scan point projects into image i (check the extrinsic T_camera_lidar)");
     return false;
   }
   const cv::Mat response = CornerResponse(grey_i, settings.selection.corner_block_size, wrap);
@@ -128,9 +134,9 @@ bool SelectPoints(const PointCloud& scan_i, const cv::Mat& grey_i, const CameraM
   result->selected_points = static_cast<int>(selected->size());
   result->seconds_selection = SecondsSince(started);
   if (result->selected_points < settings.min_inliers) {
-    Fail(result, "too few trackable scan points in image i (" + std::to_string(selected->size()) + " of " +
-                     std::to_string(visible.points.size()) + " visible; need " +
-                     std::to_string(settings.min_inliers) + ")");
+    Fail(result, Code::kTooFewTrackable,
+         "too few trackable scan points in image i (" + std::to_string(selected->size()) + " of " +
+             std::to_string(visible.points.size()) + " visible; need " + std::to_string(settings.min_inliers) + ")");
     return false;
   }
   return true;
@@ -217,16 +223,17 @@ void SetResult(const RefinementResult& refined, const Correspondences& tracks, d
   for (int k : refined.inliers) result->inlier_correspondences.push_back(tracks[k]);
 
   if (result->inliers < settings.min_inliers) {
-    result->status = status::kNotConverged;
-    result->failure_reason = "too few inliers: " + std::to_string(result->inliers) + " (need " +
-                             std::to_string(settings.min_inliers) + ")";
+    Conclude(status::kNotConverged,
+             {Code::kTooFewInliers, "too few inliers: " + std::to_string(result->inliers) + " (need " +
+                                        std::to_string(settings.min_inliers) + ")"},
+             result);
   } else if (result->inliers < settings.min_inlier_ratio * result->tracked_points) {
-    result->status = status::kNotConverged;
-    result->failure_reason = "too few tracks agree: " + std::to_string(result->inliers) + " inliers of " +
-                             std::to_string(result->tracked_points) + " tracks";
+    Conclude(status::kNotConverged,
+             {Code::kTooFewTracksAgree, "too few tracks agree: " + std::to_string(result->inliers) + " inliers of " +
+                                            std::to_string(result->tracked_points) + " tracks"},
+             result);
   } else {
-    result->status = status::kConverged;
-    result->converged = true;
+    Conclude(status::kConverged, {}, result);
   }
 }
 
@@ -234,9 +241,9 @@ void Run(const PointCloud& scan_i, const cv::Mat& image_i, const cv::Mat& image_
          const Isometry3& T_camera_lidar, const MotionGuess& guess, const FusionOdometrySettings& settings,
          FusionOdometryResult* result) {
   // --- input checks ---
-  if (const std::string e = InputProblem(scan_i, image_i, image_j, camera, T_camera_lidar, guess, settings);
-      !e.empty())
-    return Fail(result, e);
+  if (Failure<Code> e = InputProblem(scan_i, image_i, image_j, camera, T_camera_lidar, guess, settings);
+      e.code != Code::kNone)
+    return Fail(result, e.code, e.text);
 
   const bool wrap = camera.WrapsHorizontally();
   const double pixel_angle = PixelAngleRad(camera);
@@ -261,22 +268,23 @@ void Run(const PointCloud& scan_i, const cv::Mat& image_i, const cv::Mat& image_
   result->tracked_points = static_cast<int>(tracks.size());
   result->seconds_tracking = SecondsSince(t0);
   if (result->tracked_points < settings.min_inliers)
-    return Fail(result, "tracking failed: " + std::to_string(tracks.size()) + " of " +
-                            std::to_string(selected.size()) + " points tracked into image j (need " +
-                            std::to_string(settings.min_inliers) + ")");
+    return Fail(result, Code::kTrackingFailed,
+                "tracking failed: " + std::to_string(tracks.size()) + " of " + std::to_string(selected.size()) +
+                    " points tracked into image j (need " + std::to_string(settings.min_inliers) + ")");
 
   // --- step 4: hypothesis: the guess, or P3P RANSAC when the guess is not trusted ---
   const StartPose start = ChooseStart(tracks, guess, ransac_threshold, settings, result);
   if (static_cast<int>(start.inliers.size()) < 4)
-    return Fail(result, "no motion explains the tracks (" + std::to_string(result->ransac_inliers) +
-                            " RANSAC inliers, " + std::to_string(result->guess_inliers) + " consistent with the guess, of " +
-                            std::to_string(tracks.size()) + " tracks)");
+    return Fail(result, Code::kNoMotion,
+                "no motion explains the tracks (" + std::to_string(result->ransac_inliers) + " RANSAC inliers, " +
+                    std::to_string(result->guess_inliers) + " consistent with the guess, of " +
+                    std::to_string(tracks.size()) + " tracks)");
 
   // --- step 5: robust refinement of the angular error ---
   t0 = Clock::now();
   RefinementResult refined = RefinePose(tracks, start.T_ci_cj, start.inliers, pixel_angle, settings.refinement);
   result->seconds_refinement = SecondsSince(t0);
-  if (!refined.ok) return Fail(result, refined.message);
+  if (!refined.ok) return Fail(result, Code::kRefinementFailed, refined.message);
 
   // --- after a RANSAC start: track again with the estimate as the prediction, refine again ---
   if (result->used_ransac && settings.retrack)
@@ -299,10 +307,10 @@ FusionOdometryResult EstimateScaledMotion(const PointCloud& scan_i, const cv::Ma
     Run(scan_i, image_i, image_j, camera, T_camera_lidar, guess, settings, &result);
   } catch (const std::exception& e) {
     result = FusionOdometryResult();
-    Fail(&result, std::string("unexpected error: ") + e.what());
+    Fail(&result, Code::kInternalError, std::string("unexpected error: ") + e.what());
   } catch (...) {
     result = FusionOdometryResult();
-    Fail(&result, "unexpected error");
+    Fail(&result, Code::kInternalError, "unexpected error");
   }
   result.seconds = SecondsSince(start);
   return result;

@@ -25,6 +25,7 @@
 #include "foundation/camera_model.hpp"
 #include "foundation/point_cloud.hpp"
 #include "foundation/se3.hpp"
+#include "foundation/stage_result.hpp"
 #include "fusion_odometry/settings.hpp"
 #include "fusion_odometry/types.hpp"
 
@@ -45,11 +46,27 @@ struct MotionGuess {
   bool reliable = false;
 };
 
+// Why a scaled motion is not usable.
+enum class FusionOdometryFailure {
+  kNone,               // usable
+  kNotRun,             // a default-constructed result
+  kInvalidSettings,    // settings.Validate() failed
+  kInvalidInput,       // camera without size, bad image, invalid extrinsic or guess, empty scan
+  kNothingProjects,    // no scan point projects into image i
+  kTooFewTrackable,    // too few trackable scan points in image i
+  kTrackingFailed,     // too few points tracked into image j
+  kNoMotion,           // neither the guess nor the RANSAC explains the tracks
+  kRefinementFailed,   // the pose refinement failed
+  kTooFewInliers,      // an estimate, but fewer inliers than min_inliers (status not_converged)
+  kTooFewTracksAgree,  // an estimate, but fewer inliers than min_inlier_ratio of the tracks (not_converged)
+  kInternalError,      // an exception inside the core
+};
+
 struct FusionOdometryResult {
   Isometry3 T_ci_cj = Isometry3::Identity();  // A, metric
-  bool converged = false;
-  std::string status = status::kFailed;
-  std::string failure_reason;  // empty when converged
+  bool usable() const { return failure_reason.code == FusionOdometryFailure::kNone; }
+  std::string status = status::kFailed;  // converged (usable), not_converged (an estimate) or failed
+  Failure<FusionOdometryFailure> failure_reason{FusionOdometryFailure::kNotRun, {}};  // text empty when usable
 
   int inliers = 0;  // final 2D-3D correspondences (residual under A below refinement.max_residual_px)
   // 6x6 over [d_rot (rad); d_t (m)] with R = R_hat Exp(d_rot) (rotation vector in frame j) and
@@ -78,8 +95,6 @@ struct FusionOdometryResult {
   double seconds_refinement = 0.0;
 
   Correspondences inlier_correspondences;  // for overlays and debugging
-
-  bool ok() const { return converged; }
 };
 
 // The metric camera motion A = T_ci_cj. scan_i: station i in the LiDAR frame; images 8-bit grey, BGR or

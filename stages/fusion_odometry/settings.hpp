@@ -53,7 +53,7 @@ struct TrackingSettings {
   // over depth) the average falls short of the flow at the centre by a term growing with the window's
   // angular area. Measured at the true extrinsic, camera motions too short by: 0.128 % with 15 px on a
   // 1024-wide panorama (5.3 deg), 0.028 % with 7 px (2.5 deg); 0.007 % with 15 px on a 2048-wide one
-  // (2.6 deg), where refining changes nothing (README.md, "Uncertainty coverage").
+  // (2.6 deg), where refining changes nothing (docs/benchmarks.md, "KLT window and the length of camera motions").
   double refine_window_deg = 2.5;
   int pyramid_levels = 3;
   int max_iterations = 30;

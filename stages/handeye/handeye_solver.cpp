@@ -58,22 +58,31 @@ void DescribeTravelOnly(const TravelDirection& travel, const HandEyeSettings& s,
   r->message += "; " + m.str();
 }
 
+// No estimate: status failed, failure_reason `code` with the message as its text.
+void MarkFailed(HandEyeFailure code, HandEyeResult* r) {
+  r->status = HandEyeStatus::kFailed;
+  r->converged = false;
+  r->failure_reason = {code, r->message};
+}
+
 // Validates settings and the initial guess, screens the pairs. False (result filled as failed) when no
 // estimate can be made.
 bool Prepare(const std::vector<MotionPair>& input, const HandEyeSettings& s, bool scaled, const Isometry3* initial,
              HandEyeResult* r, Working* w) {
   r->scaled = scaled;
-  r->status = handeye_status::kFailed;
-  r->observability = handeye_observability::kTooFewMotions;
+  r->status = HandEyeStatus::kFailed;
+  r->observability = Observability::kTooFewMotions;
   if (initial) r->T_camera_lidar = *initial;
   SetCovariance(kUnobservableVariance * Matrix6::Identity(), r);
   const std::string settings_error = s.Validate();
   if (!settings_error.empty()) {
     r->message = "invalid settings: " + settings_error;
+    MarkFailed(HandEyeFailure::kInvalidSettings, r);
     return false;
   }
   if (initial && !IsValidTransform(*initial, s.orthonormality_tolerance)) {
     r->message = "initial guess is not a valid rigid transform";
+    MarkFailed(HandEyeFailure::kInvalidInitialGuess, r);
     return false;
   }
   ScreeningOutcome screen = ScreenPairs(input, s, scaled);
@@ -88,6 +97,7 @@ bool Prepare(const std::vector<MotionPair>& input, const HandEyeSettings& s, boo
       << s.min_pairs << " for a verdict)";
     r->message = m.str();
     if (const auto travel = FindTravelDirection(input, s)) DescribeTravelOnly(*travel, s, initial, r);
+    MarkFailed(HandEyeFailure::kTooFewPairs, r);
     return false;
   }
   return true;
@@ -151,11 +161,11 @@ NoiseModel EstimateNoise(const std::vector<MotionPair>& pairs, const Eigen::Matr
 Matrix6 Inflate(Matrix6 C, const ObservabilityReport& obs, const Eigen::Matrix3d& R) {
   std::vector<Vector6> directions = obs.null_directions;
   Vector6 v = Vector6::Zero();
-  if (obs.verdict == std::string(handeye_observability::kRotationDegenerate)) {
+  if (obs.verdict == Observability::kRotationDegenerate) {
     v.head<3>() = R.transpose() * obs.direction;
     directions.push_back(v);
   }
-  if (obs.verdict != std::string(handeye_observability::kOk)) {
+  if (obs.verdict != Observability::kOk) {
     v.setZero();
     v.tail<3>() = obs.direction;
     directions.push_back(v);
@@ -183,26 +193,30 @@ void Finish(const Working& w, const std::vector<MotionPair>& input, const HandEy
 
   std::ostringstream m;
   if (w.size() < s.min_pairs) {
-    r->observability = handeye_observability::kTooFewMotions;
-    r->status = handeye_status::kDegenerate;
+    r->observability = Observability::kTooFewMotions;
+    r->status = HandEyeStatus::kDegenerate;
     m << "too few motion pairs (" << w.size() << " < min_pairs " << s.min_pairs << "); ";
-  } else if (obs.verdict != handeye_observability::kOk) {
+  } else if (obs.verdict != Observability::kOk) {
     r->observability = obs.verdict;
     r->unobservable_direction = obs.direction;
-    r->status = handeye_status::kDegenerate;
+    r->status = HandEyeStatus::kDegenerate;
   } else if (!est.usable) {
     r->observability = obs.verdict;
-    r->status = handeye_status::kFailed;
+    r->status = HandEyeStatus::kFailed;
   } else {
     r->observability = obs.verdict;
-    r->status = est.converged ? handeye_status::kConverged : handeye_status::kNotConverged;
+    r->status = est.converged ? HandEyeStatus::kConverged : HandEyeStatus::kNotConverged;
   }
-  r->converged = r->status == std::string(handeye_status::kConverged);
-  m << "used " << w.size() << " of " << input.size() << " pairs; observability " << obs.verdict
+  r->converged = r->status == HandEyeStatus::kConverged;
+  m << "used " << w.size() << " of " << input.size() << " pairs; observability " << Name(obs.verdict)
     << " (rotation std <= " << obs.rotation_std_deg << " deg, translation std <= " << obs.translation_std_m
     << " m at nominal noise); residual rms " << r->residual_rms_rot_deg << " deg, " << r->residual_rms_trans_m
     << " m; solver: " << est.message;
   r->message = m.str();
+  if (r->status == HandEyeStatus::kFailed)
+    MarkFailed(HandEyeFailure::kSolverFailed, r);
+  else
+    r->failure_reason = {};
 }
 
 HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEyeSettings& s,
@@ -246,10 +260,10 @@ HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEy
 
   const ObservabilityReport obs = AnalyzeScaled(w.pairs, est.R, est.t, nominal, s);
   // Along unobservable directions the estimate is noise: keep the initial guess there (zero without one).
-  if (obs.verdict == std::string(handeye_observability::kRotationDegenerate)) {
+  if (obs.verdict == Observability::kRotationDegenerate) {
     if (initial) est.R = AlignAxis(initial->linear(), est.R.transpose() * obs.direction, obs.direction);
     est.t = SolveTranslation(w.pairs, est.R, false, &t_prior, {obs.direction}).t;
-  } else if (obs.verdict == std::string(handeye_observability::kTranslationPartlyUnobservable)) {
+  } else if (obs.verdict == Observability::kTranslationPartlyUnobservable) {
     est.t += obs.direction * obs.direction.dot(t_prior - est.t);
   }
   Matrix6 C = Matrix6::Zero();
@@ -341,9 +355,9 @@ HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const Han
   r.iterations += est.iterations;
   lt = SolveTranslation(w.pairs, est.R, true, prior);
   const ObservabilityReport obs = AnalyzeScaleless(w.pairs, est.R, lt, nominal, s);
-  if (obs.verdict != std::string(handeye_observability::kOk)) {
+  if (obs.verdict != Observability::kOk) {
     // Along unobservable directions the estimate is noise: keep the initial guess there (zero without one).
-    if (initial && obs.verdict == std::string(handeye_observability::kRotationDegenerate))
+    if (initial && obs.verdict == Observability::kRotationDegenerate)
       est.R = AlignAxis(initial->linear(), est.R.transpose() * obs.direction, obs.direction);
     lt = SolveTranslation(w.pairs, est.R, true, &t_prior, {obs.direction});
   }
@@ -380,6 +394,7 @@ HandEyeResult Guarded(Impl impl, bool scaled) {
     HandEyeResult r;
     r.scaled = scaled;
     r.message = std::string("internal error: ") + e.what();
+    r.failure_reason = {HandEyeFailure::kInternalError, r.message};
     return r;
   }
 }

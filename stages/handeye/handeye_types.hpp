@@ -11,7 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "foundation/extrinsic_verdict.hpp"
 #include "foundation/se3.hpp"
+#include "foundation/stage_result.hpp"
 
 namespace fusecal {
 
@@ -101,27 +103,19 @@ struct HandEyeSettings {
   bool IsValid(std::string* error = nullptr) const;
 };
 
-// Values of HandEyeResult::status (the subset of extrinsic_t.status the solver produces).
-namespace handeye_status {
-inline constexpr const char* kConverged = "converged";        // observable, solver converged
-inline constexpr const char* kNotConverged = "not_converged";  // observable, iteration limit reached
-inline constexpr const char* kDegenerate = "degenerate";       // best estimate, but see observability
-inline constexpr const char* kFailed = "failed";               // no estimate (bad settings, < 2 pairs)
-}  // namespace handeye_status
+// HandEyeResult::status and ::observability are HandEyeStatus and Observability
+// (foundation/extrinsic_verdict.hpp), named by Name().
 
-// Values of HandEyeResult::observability (as in extrinsic_t.observability).
-namespace handeye_observability {
-inline constexpr const char* kOk = "ok";
-// Rotation about one axis is not determined. Direction: that axis in the camera frame. With scaled motions
-// this happens when all motions rotate about one common line (e.g. panning on a tripod); translation along
-// the axis is then unobservable too. With scaleless motions, whenever all rotation axes are parallel.
-inline constexpr const char* kRotationDegenerate = "rotation_degenerate";
-// Rotation is determined, t is not along `unobservable_direction` (camera frame). Scaled motions about one
-// axis only (planar motion): t along the axis. Scaleless: e.g. few planar motions.
-inline constexpr const char* kTranslationPartlyUnobservable = "translation_partly_unobservable";
-// Fewer than settings.min_pairs usable pairs.
-inline constexpr const char* kTooFewMotions = "too_few_motions";
-}  // namespace handeye_observability
+// Why a hand-eye solve made no estimate (status failed).
+enum class HandEyeFailure {
+  kNone,                 // usable: status converged, not_converged or degenerate
+  kNotRun,               // a default-constructed result
+  kInvalidSettings,      // settings.Validate() failed
+  kInvalidInitialGuess,  // the initial guess is not a rigid transform
+  kTooFewPairs,          // fewer than 2 usable motion pairs
+  kSolverFailed,         // the nonlinear solver produced no usable solution
+  kInternalError,        // an exception inside the core
+};
 
 struct HandEyeResult {
   Isometry3 T_camera_lidar = Isometry3::Identity();
@@ -131,10 +125,13 @@ struct HandEyeResult {
   Eigen::Vector3d std_dev_rot_deg = Eigen::Vector3d::Zero();  // sqrt of the diagonal, degrees
   Eigen::Vector3d std_dev_trans_m = Eigen::Vector3d::Zero();  // sqrt of the diagonal, metres
 
+  // An estimate exists (status is not failed); see status and observability for what it is worth.
+  bool usable() const { return failure_reason.code == HandEyeFailure::kNone; }
+
   bool scaled = false;     // SolveScaled (true) or SolveScaleless (false)
-  bool converged = false;  // true only when status == "converged" (never for a degenerate set)
-  std::string status = handeye_status::kFailed;
-  std::string observability = handeye_observability::kTooFewMotions;
+  bool converged = false;  // true only when status is kConverged (never for a degenerate set)
+  HandEyeStatus status = HandEyeStatus::kFailed;
+  Observability observability = Observability::kTooFewMotions;
   // Camera frame, unit; zero when ok. Along it the estimate keeps the initial guess's value (t along it and,
   // for rotation_degenerate, the rotation about it), or zero translation / an arbitrary angle without one.
   Eigen::Vector3d unobservable_direction = Eigen::Vector3d::Zero();
@@ -154,7 +151,9 @@ struct HandEyeResult {
   double noise_trans_m = 0.0;
 
   int iterations = 0;  // nonlinear iterations, all solves together
-  std::string message;
+  std::string message;  // what the solve found, or why it failed
+  // kNone when usable; else the code, and the message as its text.
+  Failure<HandEyeFailure> failure_reason{HandEyeFailure::kNotRun, {}};
 
   bool IsRejected(int station_i, int station_j) const;
   bool IsUsed(int station_i, int station_j) const;

@@ -63,10 +63,10 @@ void Verdict(const BlockStd& rot, const BlockStd& trans, const Eigen::Matrix3d& 
   report->rotation_std_deg = rot.max_std * 180.0 / M_PI;
   report->translation_std_m = trans.max_std;
   if (report->rotation_std_deg > settings.max_rotation_std_deg) {
-    report->verdict = handeye_observability::kRotationDegenerate;
+    report->verdict = Observability::kRotationDegenerate;
     report->direction = (R * rot.direction).normalized();  // LiDAR-frame axis -> camera frame
   } else if (report->translation_std_m > settings.max_translation_std_m) {
-    report->verdict = handeye_observability::kTranslationPartlyUnobservable;
+    report->verdict = Observability::kTranslationPartlyUnobservable;
     report->direction = trans.direction.normalized();
   }
 }

@@ -23,7 +23,7 @@
 namespace fusecal::handeye {
 
 struct ObservabilityReport {
-  std::string verdict = handeye_observability::kOk;  // ok, rotation_degenerate, translation_partly_unobservable
+  Observability verdict = Observability::kOk;  // kOk, kRotationDegenerate or kTranslationPartlyUnobservable
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // camera frame, unit; zero when ok
   double rotation_std_deg = 0.0;    // largest standard deviation of the rotation (infinite when null)
   double translation_std_m = 0.0;   // largest standard deviation of t

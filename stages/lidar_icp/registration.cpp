@@ -22,6 +22,9 @@
 namespace fusecal::lidar_icp {
 namespace {
 
+using Outcome = Failure<RegistrationFailure>;
+using Code = RegistrationFailure;
+
 constexpr double kDeg = M_PI / 180.0;
 constexpr size_t kCoarseSourcePoints = 2500;    // source points of the candidates' coarse ICP
 constexpr size_t kMaxAutoTargetPoints = 50000;  // the automatic voxel grows until the target is this small
@@ -68,17 +71,18 @@ struct Clouds {
   double free_space_margin_m = 0.3;
 };
 
-// 1. Preprocessing: NaN removal and range crop, voxel grids, target normals. Returns a failure reason.
-std::string Prepare(const PointCloud& scan_i, const PointCloud& scan_j, const RegistrationSettings& settings,
+// 1. Preprocessing: NaN removal and range crop, voxel grids, target normals. Returns the failure, if any.
+Outcome Prepare(const PointCloud& scan_i, const PointCloud& scan_j, const RegistrationSettings& settings,
                     int threads, Clouds* c) {
   const std::vector<Eigen::Vector3f> valid_i = ValidPoints(scan_i, settings.min_range_m, settings.max_range_m);
   const std::vector<Eigen::Vector3f> valid_j = ValidPoints(scan_j, settings.min_range_m, settings.max_range_m);
   for (auto [name, valid, total] :
        {std::tuple("i", &valid_i, scan_i.size()), std::tuple("j", &valid_j, scan_j.size())})
     if (static_cast<int>(valid->size()) < settings.min_points)
-      return "scan " + std::string(name) + " has " + std::to_string(valid->size()) + " valid points of " +
-             std::to_string(total) + " (finite, range in [" + Format(settings.min_range_m) + ", " +
-             Format(settings.max_range_m) + "] m), fewer than min_points " + std::to_string(settings.min_points);
+      return {Code::kTooFewPoints,
+              "scan " + std::string(name) + " has " + std::to_string(valid->size()) + " valid points of " +
+                  std::to_string(total) + " (finite, range in [" + Format(settings.min_range_m) + ", " +
+                  Format(settings.max_range_m) + "] m), fewer than min_points " + std::to_string(settings.min_points)};
 
   const bool automatic = settings.voxel_size_m <= 0;
   c->scales = ChooseScales(
@@ -96,14 +100,15 @@ std::string Prepare(const PointCloud& scan_i, const PointCloud& scan_j, const Re
   c->source_fine = Subsample(source_voxels, settings.max_source_points);
   c->source_coarse = Subsample(VoxelDownsample(source_voxels, c->scales.coarse_voxel), kCoarseSourcePoints);
   if (static_cast<int>(std::min(c->source_fine.size(), c->target_fine.points.size())) < settings.min_points)
-    return "after voxel downsampling (" + Format(c->scales.fine_voxel) + " m) scan i has " +
-           std::to_string(c->target_fine.points.size()) + " and scan j " + std::to_string(c->source_fine.size()) +
-           " points, fewer than min_points " + std::to_string(settings.min_points);
+    return {Code::kTooFewPoints, "after voxel downsampling (" + Format(c->scales.fine_voxel) + " m) scan i has " +
+                                     std::to_string(c->target_fine.points.size()) + " and scan j " +
+                                     std::to_string(c->source_fine.size()) + " points, fewer than min_points " +
+                                     std::to_string(settings.min_points)};
   c->target_fine.BuildTarget(settings.normal_neighbors, threads);
   c->target_coarse.BuildTarget(std::min(settings.normal_neighbors, 10), threads);
   c->free_space = std::make_unique<FreeSpaceImage>(valid_i);
   c->free_space_margin_m = std::max(2.0 * c->scales.last_threshold, 0.3);
-  return "";
+  return {};
 }
 
 // 2. Global alignment: candidate poses with no guess (a guess, when given, is one more seed).
@@ -172,8 +177,8 @@ LevelResult RefineFine(const Clouds& c, const std::vector<double>& schedule, con
   return last;
 }
 
-// 4. Statistics at the last threshold, covariance, acceptance. Returns a failure reason.
-std::string Evaluate(const Clouds& c, const IcpOptions& fine, double last, const LevelResult& last_level,
+// 4. Statistics at the last threshold, covariance, acceptance. Returns the failure, if any.
+Outcome Evaluate(const Clouds& c, const IcpOptions& fine, double last, const LevelResult& last_level,
                      const RegistrationSettings& settings, RegistrationResult* r) {
   const Linearization lin = Linearize(c.target_fine, c.source_fine, r->T_li_lj, last, fine);
   r->inliers = lin.inliers;
@@ -182,56 +187,66 @@ std::string Evaluate(const Clouds& c, const IcpOptions& fine, double last, const
   r->free_space_violation =
       c.free_space->ViolationRatio(c.source_fine, r->T_li_lj, settings.min_range_m, c.free_space_margin_m);
   if (static_cast<int>(lin.inliers) < settings.min_points)
-    return "only " + std::to_string(lin.inliers) + " source points have a planar target point within " +
-           Format(last) + " m, fewer than min_points " + std::to_string(settings.min_points);
+    return {Code::kTooFewInliers, "only " + std::to_string(lin.inliers) +
+                                      " source points have a planar target point within " + Format(last) +
+                                      " m, fewer than min_points " + std::to_string(settings.min_points)};
   if (r->fitness < settings.min_fitness)
-    return "inlier ratio " + Format(r->fitness) + " at " + Format(last) + " m is below min_fitness " +
-           Format(settings.min_fitness) + ": the scans do not overlap enough or are unrelated";
+    return {Code::kLowFitness, "inlier ratio " + Format(r->fitness) + " at " + Format(last) +
+                                   " m is below min_fitness " + Format(settings.min_fitness) +
+                                   ": the scans do not overlap enough or are unrelated"};
   if (r->free_space_violation > settings.max_free_space_violation)
-    return Format(100.0 * r->free_space_violation) + " % of scan j's points lie in space scan i observed as empty " +
-           "(limit " + Format(100.0 * settings.max_free_space_violation) +
-           " %): the alignment is inconsistent, the scans are unrelated or the global alignment failed";
+    return {Code::kFreeSpaceViolation,
+            Format(100.0 * r->free_space_violation) + " % of scan j's points lie in space scan i observed as empty " +
+                "(limit " + Format(100.0 * settings.max_free_space_violation) +
+                " %): the alignment is inconsistent, the scans are unrelated or the global alignment failed"};
   double sum_sq_range = 0.0;
   for (const Eigen::Vector3f& p : c.source_fine) sum_sq_range += p.squaredNorm();
   r->conditioning = Conditioning(lin, std::sqrt(sum_sq_range / double(c.source_fine.size())));
   if (r->conditioning < settings.min_conditioning)
-    return "degenerate geometry: Hessian conditioning " + Format(r->conditioning) + " below " +
-           Format(settings.min_conditioning) + ", a direction of the motion is unconstrained (a single plane, a corridor)";
+    return {Code::kDegenerate, "degenerate geometry: Hessian conditioning " + Format(r->conditioning) + " below " +
+                                   Format(settings.min_conditioning) +
+                                   ", a direction of the motion is unconstrained (a single plane, a corridor)"};
   if (!CovarianceFromHessian(lin, &r->covariance))
-    return "degenerate geometry: the point-to-plane Hessian is singular, not all 6 DoF are constrained";
+    return {Code::kDegenerate,
+            "degenerate geometry: the point-to-plane Hessian is singular, not all 6 DoF are constrained"};
   double rotation_std, translation_std;
   CovarianceExtent(r->covariance, &rotation_std, &translation_std);
   if (rotation_std > 0.5 * kDeg || translation_std > 0.1)
-    return "degenerate geometry: standard deviation up to " + Format(rotation_std / kDeg) + " deg and " +
-           Format(translation_std) + " m (e.g. a corridor or a single plane)";
+    return {Code::kDegenerate, "degenerate geometry: standard deviation up to " + Format(rotation_std / kDeg) +
+                                   " deg and " + Format(translation_std) + " m (e.g. a corridor or a single plane)"};
   if (!last_level.converged)
-    return "ICP did not converge at the last threshold (" + Format(last) + " m) within " +
-           std::to_string(last_level.iterations) + " iterations";
-  return "";
+    return {Code::kNotConverged, "ICP did not converge at the last threshold (" + Format(last) + " m) within " +
+                                     std::to_string(last_level.iterations) + " iterations"};
+  return {};
+}
+
+// Records the outcome of a registration: usable when `outcome` is kNone.
+void Conclude(Outcome outcome, RegistrationResult* result) {
+  result->failure_reason = std::move(outcome);
 }
 
 RegistrationResult RegisterImpl(const PointCloud& scan_i, const PointCloud& scan_j, const Isometry3* guess,
                                 const RegistrationSettings& settings) {
   RegistrationResult result;
-  auto fail = [&result](const std::string& why) {
-    result.converged = false;
-    result.failure_reason = why;
+  auto fail = [&result](Outcome outcome) {
+    Conclude(std::move(outcome), &result);
     return result;
   };
   if (const std::string problem = settings.Validate(); !problem.empty())
-    return fail("invalid settings: " + problem);
-  if (guess && !IsValidTransform(*guess, 1e-3)) return fail("the initial guess is not a valid transform");
+    return fail({Code::kInvalidSettings, "invalid settings: " + problem});
+  if (guess && !IsValidTransform(*guess, 1e-3))
+    return fail({Code::kInvalidGuess, "the initial guess is not a valid transform"});
   const int threads = ThreadCount(settings.num_threads);
 
   Clouds clouds;
-  if (const std::string problem = Prepare(scan_i, scan_j, settings, threads, &clouds); !problem.empty())
-    return fail(problem);
+  if (Outcome problem = Prepare(scan_i, scan_j, settings, threads, &clouds); problem.code != Code::kNone)
+    return fail(std::move(problem));
   result.voxel_size_m = clouds.scales.fine_voxel;
   result.source_points = clouds.source_fine.size();
   result.target_points = clouds.target_fine.points.size();
 
   const std::vector<PoseCandidate> candidates = Candidates(clouds, guess, settings, threads);
-  if (candidates.empty()) return fail("global alignment found no candidate pose");
+  if (candidates.empty()) return fail({Code::kNoCandidate, "global alignment found no candidate pose"});
 
   // Paper III-A-1: the correspondence threshold starts large and shrinks level by level, rejecting the
   // correspondences beyond it as outliers.
@@ -247,10 +262,7 @@ RegistrationResult RegisterImpl(const PointCloud& scan_i, const PointCloud& scan
   fine.tangential_limit_m = 2.0 * clouds.scales.fine_voxel;
   const LevelResult last_level = RefineFine(clouds, schedule, fine, &T, &result);
   result.T_li_lj = T;
-  if (const std::string problem = Evaluate(clouds, fine, schedule.back(), last_level, settings, &result);
-      !problem.empty())
-    return fail(problem);
-  result.converged = true;
+  Conclude(Evaluate(clouds, fine, schedule.back(), last_level, settings, &result), &result);
   return result;
 }
 
@@ -262,10 +274,10 @@ RegistrationResult Timed(F&& run) {
     result = run();
   } catch (const std::exception& e) {
     result = RegistrationResult();
-    result.failure_reason = std::string("internal error: ") + e.what();
+    Conclude({Code::kInternalError, std::string("internal error: ") + e.what()}, &result);
   } catch (...) {
     result = RegistrationResult();
-    result.failure_reason = "internal error: unknown exception";
+    Conclude({Code::kInternalError, "internal error: unknown exception"}, &result);
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

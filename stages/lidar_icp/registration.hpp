@@ -10,14 +10,15 @@
 //      run from the best candidates, the best one carried to the fine level (icp.cpp);
 //   4. acceptance: inlier ratio, free-space consistency (consistency.cpp), conditioning; covariance from
 //      the Hessian (covariance.cpp).
-// No LCM, no file I/O, no PCL. Never throws on bad input: a failed registration has converged=false and a
-// reason.
+// No LCM, no file I/O, no PCL. Never throws on bad input: a failed registration is not usable() and says
+// why in failure_reason.
 #pragma once
 
 #include <string>
 
 #include "foundation/point_cloud.hpp"
 #include "foundation/se3.hpp"
+#include "foundation/stage_result.hpp"
 
 namespace fusecal::lidar_icp {
 
@@ -68,11 +69,28 @@ struct RegistrationSettings {
   std::string Validate() const;
 };
 
+// Why a registration is not usable.
+enum class RegistrationFailure {
+  kNone,               // usable
+  kNotRun,             // a default-constructed result
+  kInvalidSettings,    // settings.Validate() failed
+  kInvalidGuess,       // the initial guess is not a rigid transform
+  kTooFewPoints,       // too few valid points before or after downsampling (min_points)
+  kNoCandidate,        // the global alignment found no candidate pose
+  kTooFewInliers,      // too few source points with a planar target point at the last threshold
+  kLowFitness,         // inlier ratio below min_fitness
+  kFreeSpaceViolation, // too many points in space scan i saw empty (max_free_space_violation)
+  kDegenerate,         // the geometry leaves a direction of the motion unconstrained
+  kNotConverged,       // ICP did not settle at the last threshold
+  kInternalError,      // an exception inside the core
+};
+
 struct RegistrationResult {
-  // Maps points of scan j into the frame of scan i. When not converged, the last estimate (if any): do
-  // not use it.
+  // Maps points of scan j into the frame of scan i. When not usable, the last estimate (if any): do not
+  // use it.
   Isometry3 T_li_lj = Isometry3::Identity();
-  bool converged = false;  // accepted: ICP settled and every check passed
+  // Accepted: ICP settled and every check passed (what `fusecal register` prints as "converged").
+  bool usable() const { return failure_reason.code == RegistrationFailure::kNone; }
   double fitness = 0.0;        // inlier ratio of the (downsampled) source at the last threshold
   double inlier_rms_m = 0.0;   // RMS point-to-plane distance of the inliers
   int iterations = 0;          // Gauss-Newton iterations, all levels and candidates
@@ -80,7 +98,7 @@ struct RegistrationResult {
   // Gauss-Newton Hessian scaled by the residual variance: sigma^2 H^-1.
   Matrix6 covariance = Matrix6::Zero();
   double seconds = 0.0;
-  std::string failure_reason;  // empty when converged
+  Failure<RegistrationFailure> failure_reason{RegistrationFailure::kNotRun, {}};  // text empty when usable
 
   // Diagnostics.
   size_t source_points = 0;           // fine source points used (scan j)

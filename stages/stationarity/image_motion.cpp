@@ -101,11 +101,11 @@ ImageFlow MeasureFlow(const ImageFrame& from, const ImageFrame& to, const ImageM
   ImageFlow out;
   out.corners = static_cast<int>(from.corners.size());
   if (!from.textured || !to.textured) {
-    out.problem = "no texture to track";
+    out.failure_reason = {ImageFlowFailure::kNoTexture, "no texture to track"};
     return out;
   }
   if (from.grey.size() != to.grey.size()) {
-    out.problem = "image size changed";
+    out.failure_reason = {ImageFlowFailure::kSizeChanged, "image size changed"};
     return out;
   }
   const cv::Size window(settings.klt_window_px, settings.klt_window_px);
@@ -131,12 +131,12 @@ ImageFlow MeasureFlow(const ImageFrame& from, const ImageFrame& to, const ImageM
   const int needed = std::max(settings.min_tracks,
                               static_cast<int>(std::ceil(settings.min_tracked_fraction * out.corners)));
   if (out.tracks < needed) {
-    out.problem = "tracking lost (" + std::to_string(out.tracks) + " of " + std::to_string(out.corners) +
-                  " corners tracked)";
+    out.failure_reason = {ImageFlowFailure::kTrackingLost, "tracking lost (" + std::to_string(out.tracks) + " of " +
+                                                               std::to_string(out.corners) + " corners tracked)"};
     return out;
   }
   out.median_px = Median(std::move(displacement)) * from.px_scale;
-  out.valid = true;
+  out.failure_reason = {};
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "foundation/stage_result.hpp"
 #include "stationarity/settings.hpp"
 
 namespace fusecal {
@@ -29,15 +30,25 @@ bool IsSupportedImage(const cv::Mat& image);
 // Grey, downscale (cv::INTER_AREA), normalise, detect corners. `image` must be supported.
 ImageFrame PrepareImage(int64_t utime, const cv::Mat& image, const ImageMotionSettings& settings);
 
+// Why an image flow cannot decide.
+enum class ImageFlowFailure {
+  kNone,          // usable: enough tracks to decide
+  kNotRun,        // a default-constructed result
+  kNoTexture,     // a frame without texture
+  kSizeChanged,   // the frames' working sizes differ
+  kTrackingLost,  // too few tracks survived
+  kNotMeasured,   // the detector skipped the measurement (the drift while the rig moves)
+};
+
 struct ImageFlow {
-  bool valid = false;     // enough tracks to decide
+  bool usable() const { return failure_reason.code == ImageFlowFailure::kNone; }
   double median_px = 0;   // median displacement, pixels of an image working_width_px wide
   int corners = 0;        // corners tracked from
   int tracks = 0;         // tracks that passed the forward-backward check
-  std::string problem;    // why not valid
+  Failure<ImageFlowFailure> failure_reason{ImageFlowFailure::kNotRun, {}};
 };
 
-// Tracks the corners of `from` into `to` and back. Not valid when either frame is not textured, their
+// Tracks the corners of `from` into `to` and back. Not usable when either frame is not textured, their
 // working sizes differ, or too few tracks survive (large motion, occlusion, a different scene).
 ImageFlow MeasureFlow(const ImageFrame& from, const ImageFrame& to, const ImageMotionSettings& settings);
 

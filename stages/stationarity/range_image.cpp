@@ -71,7 +71,8 @@ RangeImage BuildRangeImage(const PointCloud& cloud, const LidarChangeSettings& s
 LidarChange CompareRangeImages(const RangeImage& a, const RangeImage& b, const LidarChangeSettings& settings) {
   LidarChange out;
   if (a.rows != b.rows || a.cols != b.cols || a.by_ring != b.by_ring) {
-    out.problem = "range image layouts differ (ring field present in one scan only?)";
+    out.failure_reason = {LidarChangeFailure::kLayoutsDiffer,
+                          "range image layouts differ (ring field present in one scan only?)"};
     return out;
   }
   std::vector<float> diff;
@@ -82,13 +83,14 @@ LidarChange CompareRangeImages(const RangeImage& a, const RangeImage& b, const L
   }
   out.common_cells = static_cast<int>(diff.size());
   if (out.common_cells < settings.min_valid_cells) {
-    out.problem = "too few cells in common (" + std::to_string(out.common_cells) + ")";
+    out.failure_reason = {LidarChangeFailure::kTooFewCommonCells,
+                          "too few cells in common (" + std::to_string(out.common_cells) + ")"};
     return out;
   }
   const size_t k = std::min(diff.size() - 1, static_cast<size_t>(settings.change_quantile * (diff.size() - 1) + 0.5));
   std::nth_element(diff.begin(), diff.begin() + k, diff.end());
   out.change_m = diff[k];
-  out.valid = true;
+  out.failure_reason = {};
   return out;
 }
 

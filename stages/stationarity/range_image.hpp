@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "foundation/point_cloud.hpp"
+#include "foundation/stage_result.hpp"
 #include "stationarity/settings.hpp"
 
 namespace fusecal {
@@ -24,11 +25,19 @@ struct RangeImage {
 // coordinate or a range outside [min_range_m, max_range_m] are skipped.
 RangeImage BuildRangeImage(const PointCloud& cloud, const LidarChangeSettings& settings);
 
+// Why a LiDAR change cannot decide.
+enum class LidarChangeFailure {
+  kNone,                // usable
+  kNotRun,              // a default-constructed result
+  kLayoutsDiffer,       // the range images differ in layout (ring field in one scan only)
+  kTooFewCommonCells,   // fewer cells valid in both than min_valid_cells
+};
+
 struct LidarChange {
-  bool valid = false;
+  bool usable() const { return failure_reason.code == LidarChangeFailure::kNone; }
   double change_m = 0;  // change_quantile of |range difference|, metres
   int common_cells = 0;
-  std::string problem;  // why not valid
+  Failure<LidarChangeFailure> failure_reason{LidarChangeFailure::kNotRun, {}};
 };
 
 LidarChange CompareRangeImages(const RangeImage& a, const RangeImage& b, const LidarChangeSettings& settings);

@@ -120,21 +120,20 @@ void StationarityDetector::JudgeImageMotion(int64_t utime, const StationImage& i
   const ImageMotionSettings& is = settings_.image;
   const ImageFlow flow = MeasureFlow(*prev_image_, *frame, is);
   // The drift only decides when the flow says still (half the tracking while the rig moves).
-  const bool flow_still = flow.valid && flow.median_px <= is.still_flow_px;
+  const bool flow_still = flow.usable() && flow.median_px <= is.still_flow_px;
   ImageFlow drift = flow;
   if (anchor_image_ != prev_image_) {
     if (flow_still) {
       drift = MeasureFlow(*anchor_image_, *frame, is);
     } else {
-      drift.valid = false;
-      drift.problem = "not measured while the rig moves";
+      drift.failure_reason = {ImageFlowFailure::kNotMeasured, "not measured while the rig moves"};
     }
   }
-  image_flow_px_ = flow.valid ? flow.median_px : NAN;
-  image_drift_px_ = drift.valid ? drift.median_px : NAN;
+  image_flow_px_ = flow.usable() ? flow.median_px : NAN;
+  image_drift_px_ = drift.usable() ? drift.median_px : NAN;
   image_tracks_ = flow.tracks;
-  if (!flow.valid || (flow_still && !drift.valid)) ++counters_.images_untracked;
-  const bool still = flow_still && drift.valid && drift.median_px <= is.max_drift_px;
+  if (!flow.usable() || (flow_still && !drift.usable())) ++counters_.images_untracked;
+  const bool still = flow_still && drift.usable() && drift.median_px <= is.max_drift_px;
   if (still) {
     if (!camera_.still) {
       camera_.still = true;
@@ -144,12 +143,12 @@ void StationarityDetector::JudgeImageMotion(int64_t utime, const StationImage& i
     images_.push_back({utime, image, frame});
   } else {
     camera_.still = false;
-    if (!flow.valid)
-      camera_.reason = "image " + flow.problem;
+    if (!flow.usable())
+      camera_.reason = "image " + flow.failure_reason.text;
     else if (flow.median_px > is.still_flow_px)
       camera_.reason = Format("image flow %.3f px > %.3f px", flow.median_px, is.still_flow_px);
-    else if (!drift.valid)
-      camera_.reason = "image, from the anchor: " + drift.problem;
+    else if (!drift.usable())
+      camera_.reason = "image, from the anchor: " + drift.failure_reason.text;
     else
       camera_.reason = Format("image drift %.3f px > %.3f px since the run began", drift.median_px,
                               is.max_drift_px);
@@ -194,11 +193,12 @@ std::vector<DetectedStation> StationarityDetector::AddScan(int64_t utime, const 
     const LidarChange change = CompareRangeImages(*prev_range_, *range, settings_.lidar);
     const LidarChange drift =
         anchor_range_ == prev_range_ ? change : CompareRangeImages(*anchor_range_, *range, settings_.lidar);
-    lidar_change_m_ = change.valid ? change.change_m : NAN;
-    lidar_drift_m_ = drift.valid ? drift.change_m : NAN;
+    lidar_change_m_ = change.usable() ? change.change_m : NAN;
+    lidar_drift_m_ = drift.usable() ? drift.change_m : NAN;
     lidar_common_cells_ = change.common_cells;
     const LidarChangeSettings& ls = settings_.lidar;
-    if (change.valid && drift.valid && change.change_m <= ls.still_change_m && drift.change_m <= ls.max_drift_m) {
+    if (change.usable() && drift.usable() && change.change_m <= ls.still_change_m &&
+        drift.change_m <= ls.max_drift_m) {
       if (!lidar_.still) {
         lidar_.still = true;
         lidar_.still_since = anchor_scan_utime_;
@@ -207,12 +207,12 @@ std::vector<DetectedStation> StationarityDetector::AddScan(int64_t utime, const 
       scans_.push_back(std::move(buffered));
     } else {
       lidar_.still = false;
-      if (!change.valid)
-        lidar_.reason = "lidar " + change.problem;
+      if (!change.usable())
+        lidar_.reason = "lidar " + change.failure_reason.text;
       else if (change.change_m > ls.still_change_m)
         lidar_.reason = Format("lidar change %.4f m > %.4f m", change.change_m, ls.still_change_m);
-      else if (!drift.valid)
-        lidar_.reason = "lidar, from the anchor: " + drift.problem;
+      else if (!drift.usable())
+        lidar_.reason = "lidar, from the anchor: " + drift.failure_reason.text;
       else
         lidar_.reason = Format("lidar drift %.4f m > %.4f m since the run began", drift.change_m, ls.max_drift_m);
       anchor_range_ = range;
@@ -365,12 +365,12 @@ DetectedStation StationarityDetector::BuildStation(const BufferedImage& best_ima
   s.image_drift_px = NAN;
   if (anchor_image_) {
     const ImageFlow drift = MeasureFlow(*anchor_image_, *best_image.frame, settings_.image);
-    if (drift.valid) s.image_drift_px = drift.median_px;
+    if (drift.usable()) s.image_drift_px = drift.median_px;
   }
   s.lidar_change_m = NAN;
   if (anchor_range_) {
     const LidarChange change = CompareRangeImages(*anchor_range_, *best_scan.range, settings_.lidar);
-    if (change.valid) s.lidar_change_m = change.change_m;
+    if (change.usable()) s.lidar_change_m = change.change_m;
   }
   return s;
 }
@@ -416,9 +416,9 @@ void StationarityDetector::MarkRunHandled(const std::string& outcome) {
 
 bool StationarityDetector::MovedSinceLastStation(const BufferedImage& image, const BufferedScan& scan) const {
   const ImageFlow flow = MeasureFlow(*reference_->frame, *image.frame, settings_.image);
-  if (!flow.valid || flow.median_px > settings_.moved_flow_px) return true;  // lost tracks: moved far
+  if (!flow.usable() || flow.median_px > settings_.moved_flow_px) return true;  // lost tracks: moved far
   const LidarChange change = CompareRangeImages(*reference_->range, *scan.range, settings_.lidar);
-  return !change.valid || change.change_m > settings_.moved_change_m;
+  return !change.usable() || change.change_m > settings_.moved_change_m;
 }
 
 std::optional<DetectedStation> StationarityDetector::Flush() {

@@ -4,8 +4,8 @@
 
 #include "fuzz_entries.hpp"
 #include "fuzz_support.hpp"
-#include "ishikawa.hpp"
-#include "kitti.hpp"
+#include "importers/ishikawa.hpp"
+#include "importers/kitti.hpp"
 #include "scan_io/scan_io.hpp"
 
 namespace fusecal::fuzz {

@@ -15,8 +15,8 @@
 #include "fusecal/motion_set_t.hpp"
 #include "fusecal/point_cloud_t.hpp"
 #include "fusecal/status_t.hpp"
-#include "ishikawa.hpp"
-#include "kitti.hpp"
+#include "importers/ishikawa.hpp"
+#include "importers/kitti.hpp"
 #include "runtime/bus.hpp"
 #include "scan_io/scan_io.hpp"
 

@@ -8,7 +8,7 @@
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
 #include "formats/conversions.hpp"
-#include "sample_messages.hpp"
+#include "support/sample_messages.hpp"
 
 namespace fusecal {
 namespace {

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <map>
+#include <string>
+
 #include "runtime/config_reader.hpp"
 
 namespace fusecal {
@@ -51,6 +54,36 @@ TEST(Config, InvalidValuesNameTheKey) {
   ExpectErrorNaming("lidar: {beams: many}", "lidar.beams");
   ExpectErrorNaming("lidar: {model: solid_state}", "lidar.model");
   ExpectErrorNaming("lidar: {max_range_m: .nan}", "lidar.max_range_m");
+}
+
+// The message of a ConfigError that FailIfInvalid throws for `problem`, or "" when none.
+std::string ValidationError(const std::string& problem, const std::map<std::string, std::string>& fields = {}) {
+  ConfigReader root = ConfigReader::FromString("lidar: {beams: 500, max_range_m: 3}");
+  ConfigReader lidar = root.Child("lidar");
+  int beams = 0;
+  double max_range_m = 0;
+  lidar.Get("beams", &beams);
+  lidar.Get("max_range_m", &max_range_m);
+  try {
+    lidar.FailIfInvalid(problem, fields);
+    return "";
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+}
+
+TEST(Config, ValidateMessagesNameTheKey) {
+  EXPECT_EQ(ValidationError(""), "");
+  EXPECT_EQ(ValidationError("beams: must be in [1, 128]"), "<string>: 'lidar.beams' must be in [1, 128]");
+  EXPECT_EQ(ValidationError("max_range_m must be in [0, 1e5]"),
+            "<string>: 'lidar.max_range_m' must be in [0, 1e5]");
+  // A field that Validate() names otherwise.
+  EXPECT_EQ(ValidationError("sensor.beams: must be in [1, 128]", {{"beams", "sensor.beams"}}),
+            "<string>: 'lidar.beams' must be in [1, 128]");
+  // Not about a key of the section (or only starting like one): the section is named.
+  EXPECT_EQ(ValidationError("max_range_m_far: must be positive"),
+            "<string>: 'lidar': max_range_m_far: must be positive");
+  EXPECT_EQ(ValidationError("beams and rings must agree"), "<string>: 'lidar': beams and rings must agree");
 }
 
 TEST(Config, RequiredKeysAndSyntaxErrors) {

@@ -19,7 +19,7 @@
 #include "formats/conversions.hpp"
 #include "runtime/dds/dds_bus.hpp"
 #include "runtime/shared_memory.hpp"
-#include "sample_messages.hpp"
+#include "support/sample_messages.hpp"
 
 namespace fusecal {
 namespace {

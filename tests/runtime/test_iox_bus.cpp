@@ -22,8 +22,8 @@
 #include "runtime/iox/iox_chunk.hpp"
 #include "runtime/iox/iox_runtime.hpp"
 #include "runtime/shared_memory.hpp"
-#include "process_utils.hpp"
-#include "sample_messages.hpp"
+#include "support/process_utils.hpp"
+#include "support/sample_messages.hpp"
 
 namespace fusecal {
 namespace {

@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "fusecal/status_t.hpp"
-#include "process_utils.hpp"
+#include "support/process_utils.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/stage_main.hpp"
 

@@ -6,16 +6,22 @@
 
 namespace fusecal {
 
+std::string CameraFrontendNodeSettings::Validate() const {
+  if (previous_stations < 1 || previous_stations > 10) return "previous_stations: must be in [1, 10]";
+  return frontend.Validate();
+}
+
 CameraFrontendNodeSettings ReadCameraFrontendNodeSettings(ConfigReader r) {
   CameraFrontendNodeSettings s;
-  r.Get("previous_stations", &s.previous_stations, InRange(1, 10));
-  r.Get("max_features", &s.frontend.features.max_features, Positive<int>());
-  r.Get("detection_scale", &s.frontend.features.detection_scale, InRange(0.1, 1.0));
-  r.Get("ratio", &s.frontend.matching.ratio, InRange(0.1, 1.0));
-  r.Get("min_inliers", &s.frontend.min_inliers, Positive<int>());
+  r.Get("previous_stations", &s.previous_stations);
+  r.Get("max_features", &s.frontend.features.max_features);
+  r.Get("detection_scale", &s.frontend.features.detection_scale);
+  r.Get("ratio", &s.frontend.matching.ratio);
+  r.Get("min_inliers", &s.frontend.min_inliers);
   r.Finish();
-  const std::string error = s.frontend.Validate();
-  if (!error.empty()) r.FailSection(error);
+  r.FailIfInvalid(s.Validate(), {{"max_features", "features.max_features"},
+                                 {"detection_scale", "features.detection_scale"},
+                                 {"ratio", "matching.ratio"}});
   return s;
 }
 
@@ -35,10 +41,11 @@ motion_t CameraFrontendNode::Pair(int previous_id, const StationFeatures& previo
                                   const StationFeatures& current) {
   const RelativePoseResult result =
       EstimateRelativePose(previous.features, current.features, *current.camera, settings_.frontend);
-  motion_t motion = result.motion_valid()
+  motion_t motion = result.usable()
                         ? MakeMotion(previous_id, station.id, "camera", result.A(), false, result.covariance,
                                      station.utime)
-                        : MakeFailedMotion(previous_id, station.id, "camera", result.failure_reason, station.utime);
+                        : MakeFailedMotion(previous_id, station.id, "camera", result.failure_reason.text,
+                                           station.utime);
   motion.inliers = result.inliers;
   motion.rmse = result.median_epipolar_error_deg;
   motion.iterations = result.refinement_iterations;

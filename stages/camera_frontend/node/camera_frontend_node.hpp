@@ -14,8 +14,11 @@ namespace fusecal {
 
 struct CameraFrontendNodeSettings {
   CameraFrontendNodeSettings() { frontend.features.detection_scale = 0.5; }  // live: AKAZE at half size
-  int previous_stations = 1;  // must match lidar_icp.previous_stations
+  int previous_stations = 1;  // must match lidar_icp.previous_stations; in [1, 10]
   CameraFrontendSettings frontend;
+
+  // Empty when usable, else what is wrong: previous_stations, or frontend.Validate()'s message.
+  std::string Validate() const;
 };
 
 CameraFrontendNodeSettings ReadCameraFrontendNodeSettings(ConfigReader section);

@@ -1,6 +1,7 @@
 #include "fusion_odometry/node/fusion_odometry_node.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <opencv2/core/utility.hpp>
 
 #include "fusecal/motion_t.hpp"
@@ -10,14 +11,24 @@
 
 namespace fusecal {
 
+namespace {
+bool NonNegative(double v) { return std::isfinite(v) && v >= 0; }
+}  // namespace
+
+std::string FusionOdometryNodeSettings::Validate() const {
+  if (!NonNegative(input_wait_s)) return "input_wait_s: must not be negative";
+  if (!NonNegative(reuse_rotation_deg)) return "reuse_rotation_deg: must not be negative";
+  if (!NonNegative(reuse_translation_m)) return "reuse_translation_m: must not be negative";
+  return odometry.Validate();
+}
+
 FusionOdometryNodeSettings ReadFusionOdometryNodeSettings(ConfigReader r) {
   FusionOdometryNodeSettings s;
-  r.Get("input_wait_s", &s.input_wait_s, NonNegative<double>());
-  r.Get("reuse_rotation_deg", &s.reuse_rotation_deg, NonNegative<double>());
-  r.Get("reuse_translation_m", &s.reuse_translation_m, NonNegative<double>());
+  r.Get("input_wait_s", &s.input_wait_s);
+  r.Get("reuse_rotation_deg", &s.reuse_rotation_deg);
+  r.Get("reuse_translation_m", &s.reuse_translation_m);
   r.Finish();
-  const std::string error = s.odometry.Validate();
-  if (!error.empty()) r.FailSection(error);
+  r.FailIfInvalid(s.Validate());
   return s;
 }
 
@@ -63,8 +74,8 @@ motion_t FusionOdometryNode::ComputeMotion(int i, int j, const Isometry3& X, int
   }
   *result = fusion_odometry::EstimateScaledMotion(si->second.cloud, si->second.image, sj->second.image,
                                                   *si->second.camera, X, guess, settings_.odometry);
-  motion_t m = result->converged ? MakeMotion(i, j, "camera", result->T_ci_cj, true, result->covariance, now)
-                                 : MakeFailedMotion(i, j, "camera", result->failure_reason, now);
+  motion_t m = result->usable() ? MakeMotion(i, j, "camera", result->T_ci_cj, true, result->covariance, now)
+                                : MakeFailedMotion(i, j, "camera", result->failure_reason.text, now);
   m.inliers = result->inliers;
   m.rmse = result->rms_residual_px;
   m.iterations = result->refinement_iterations;
@@ -117,7 +128,7 @@ std::vector<motion_t> FusionOdometryNode::ComputeMotions(const extrinsic_t& extr
     const motion_t& m = motions[to_compute[c]];
     work_.Add(results[c].seconds);
     last_computed_[{m.station_i, m.station_j}] = {X, m};
-    if (results[c].converged) {
+    if (results[c].usable()) {
       last_camera_motions_[{m.station_i, m.station_j}] = results[c].T_ci_cj;
       ++motions_;
     } else {

@@ -25,6 +25,9 @@ struct FusionOdometryNodeSettings {
   // the hand-eye tolerances by default.
   double reuse_rotation_deg = 1e-3;
   double reuse_translation_m = 1e-4;
+
+  // Empty when usable, else what is wrong: a field above (all >= 0), or odometry.Validate()'s message.
+  std::string Validate() const;
 };
 
 FusionOdometryNodeSettings ReadFusionOdometryNodeSettings(ConfigReader section);

@@ -1,6 +1,7 @@
 #include "handeye/node/handeye_node.hpp"
 
 #include <chrono>
+#include <cmath>
 
 #include "handeye/node/result_conversion.hpp"
 #include "runtime/channels.hpp"
@@ -11,14 +12,17 @@ namespace fusecal {
 
 namespace {
 
-bool Observable(const HandEyeResult& r) { return r.observability == handeye_observability::kOk; }
+bool Positive(double v) { return std::isfinite(v) && v > 0; }
+bool NonNegative(double v) { return std::isfinite(v) && v >= 0; }
+
+bool Observable(const HandEyeResult& r) { return r.observability == Observability::kOk; }
 
 // The alternation can start when the rotation is known: the scaleless translation may still be partly
 // unobservable (every motion's unknown scale absorbs one direction; rotations about a pivot give
 // translation directions that repeat), which the metric camera motions of fusion odometry resolve.
 bool CanRefine(const HandEyeResult& r) {
-  return r.status != handeye_status::kFailed && r.observability != handeye_observability::kRotationDegenerate &&
-         r.observability != handeye_observability::kTooFewMotions;
+  return r.usable() && r.observability != Observability::kRotationDegenerate &&
+         r.observability != Observability::kTooFewMotions;
 }
 
 double Seconds(std::chrono::steady_clock::time_point start) {
@@ -27,19 +31,29 @@ double Seconds(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+std::string HandEyeNodeSettings::Validate() const {
+  if (!Positive(tolerance_rotation_deg)) return "tolerance_rotation_deg: must be positive";
+  if (!Positive(tolerance_translation_m)) return "tolerance_translation_m: must be positive";
+  if (max_iterations < 1 || max_iterations > 1000) return "max_iterations: must be in [1, 1000]";
+  if (!NonNegative(retry_s)) return "retry_s: must not be negative";
+  const std::string solver_problem = solver.Validate();
+  return solver_problem.empty() ? solver_problem : "solver." + solver_problem;
+}
+
 HandEyeNodeSettings ReadHandEyeNodeSettings(ConfigReader r) {
   HandEyeNodeSettings s;
-  r.Get("tolerance_rotation_deg", &s.tolerance_rotation_deg, Positive<double>());
-  r.Get("tolerance_translation_m", &s.tolerance_translation_m, Positive<double>());
-  r.Get("max_iterations", &s.max_iterations, InRange(1, 1000));
-  r.Get("retry_s", &s.retry_s, NonNegative<double>());
+  r.Get("tolerance_rotation_deg", &s.tolerance_rotation_deg);
+  r.Get("tolerance_translation_m", &s.tolerance_translation_m);
+  r.Get("max_iterations", &s.max_iterations);
+  r.Get("retry_s", &s.retry_s);
   r.Get("scaled_refinement", &s.scaled_refinement);
-  r.Get("max_angle_difference_deg", &s.solver.max_angle_difference_deg, Positive<double>());
-  r.Get("min_rotation_deg", &s.solver.min_rotation_deg, NonNegative<double>());
-  r.Get("min_pairs", &s.solver.min_pairs, InRange(2, 1000));
+  r.Get("max_angle_difference_deg", &s.solver.max_angle_difference_deg);
+  r.Get("min_rotation_deg", &s.solver.min_rotation_deg);
+  r.Get("min_pairs", &s.solver.min_pairs);
   r.Finish();
-  const std::string error = s.solver.Validate();
-  if (!error.empty()) r.FailSection(error);
+  r.FailIfInvalid(s.Validate(), {{"max_angle_difference_deg", "solver.max_angle_difference_deg"},
+                                 {"min_rotation_deg", "solver.min_rotation_deg"},
+                                 {"min_pairs", "solver.min_pairs"}});
   return s;
 }
 
@@ -95,17 +109,17 @@ void HandEyeNode::StartRound(Bus& bus) {
   const bool ask = usable && settings_.scaled_refinement;
   if (!usable) {
     // Not enough to refine: report what the motions give and wait for more.
-    const int8_t status = initial_->status == handeye_status::kFailed ? extrinsic_t::STATUS_FAILED
-                                                                      : extrinsic_t::STATUS_DEGENERATE;
+    const int8_t status = initial_->usable() ? extrinsic_t::STATUS_DEGENERATE : extrinsic_t::STATUS_FAILED;
     if (!current_ || !current_->scaled) current_ = *initial_;
-    state_ = "waiting for motions (" + initial_->observability + ")";
+    state_ = std::string("waiting for motions (") + Name(initial_->observability) + ")";
     Publish(bus, *initial_, status, {}, false);
     return;
   }
   if (!ask) {
     current_ = *initial_;
     converged_ = Observable(*initial_) && initial_->converged;
-    state_ = converged_ ? "converged (scaleless)" : "waiting for motions (" + initial_->observability + ")";
+    state_ = converged_ ? "converged (scaleless)"
+                        : std::string("waiting for motions (") + Name(initial_->observability) + ")";
     Publish(bus, *initial_, converged_ ? extrinsic_t::STATUS_CONVERGED : extrinsic_t::STATUS_DEGENERATE, {}, false);
     return;
   }
@@ -134,7 +148,7 @@ void HandEyeNode::OnFusedMotions(Bus& bus, const motion_set_t& set) {
   }
   HandEyeResult result = SolveScaled(pairs, settings_.solver, &current_->T_camera_lidar);
   work_.Add(Seconds(start));
-  if (result.status == handeye_status::kFailed) {
+  if (!result.usable()) {
     // Keep what we had; say why and wait for more motions.
     awaiting_version_ = -1;
     std::string why = "scaled solve failed: " + result.message;

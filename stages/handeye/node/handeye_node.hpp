@@ -26,6 +26,10 @@ struct HandEyeNodeSettings {
   double retry_s = 3.0;                  // republish an unanswered version after this (0: never)
   bool scaled_refinement = true;         // false: stop at the scaleless estimate
   HandEyeSettings solver;
+
+  // Empty when usable, else what is wrong: a field above (tolerances > 0, max_iterations in [1, 1000],
+  // retry_s >= 0), or solver.Validate()'s message after "solver." (both have a max_iterations).
+  std::string Validate() const;
 };
 
 HandEyeNodeSettings ReadHandEyeNodeSettings(ConfigReader section);

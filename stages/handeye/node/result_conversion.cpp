@@ -12,8 +12,8 @@ CalibrationResult ToCalibrationResult(const HandEyeResult& r,
   CalibrationResult out;
   out.T_camera_lidar = r.T_camera_lidar;
   out.covariance = r.covariance;
-  out.status = r.status;
-  out.observability = r.observability;
+  out.status = Name(r.status);
+  out.observability = Name(r.observability);
   for (const auto& p : r.used_pairs) out.motions_used.push_back(name_pair(p.station_i, p.station_j));
   for (const auto& p : r.rejected_pairs)
     out.motions_rejected.push_back(name_pair(p.station_i, p.station_j) + ": " + p.reason);
@@ -33,8 +33,8 @@ extrinsic_t ToExtrinsicMessage(const HandEyeResult& r, int version, int64_t utim
   msg.version = version;
   ToRowMajor(r.T_camera_lidar, msg.T_camera_lidar);
   Matrix6ToArray(r.covariance, msg.covariance);
-  msg.status = ExtrinsicStatusFromName(r.status);
-  msg.observability = ObservabilityFromName(r.observability);
+  msg.status = ToExtrinsicStatus(r.status);
+  msg.observability = ToExtrinsicObservability(r.observability);
   for (int i = 0; i < 3; ++i) msg.unobservable_direction[i] = r.unobservable_direction[i];
   msg.converged = r.converged;
   msg.scaled = r.scaled;

@@ -6,20 +6,24 @@
 
 namespace fusecal {
 
+std::string LidarIcpNodeSettings::Validate() const {
+  if (previous_stations < 1 || previous_stations > 10) return "previous_stations: must be in [1, 10]";
+  return registration.Validate();
+}
+
 LidarIcpNodeSettings ReadLidarIcpNodeSettings(ConfigReader r) {
   LidarIcpNodeSettings s;
   auto& g = s.registration;
-  r.Get("previous_stations", &s.previous_stations, InRange(1, 10));
-  r.Get("min_range_m", &g.min_range_m, NonNegative<double>());
-  r.Get("max_range_m", &g.max_range_m, Positive<double>());
-  r.Get("voxel_size_m", &g.voxel_size_m, NonNegative<double>());
-  r.Get("max_tilt_deg", &g.max_tilt_deg, InRange(0.0, 180.0));
-  r.Get("max_correspondence_m", &g.max_correspondence_m, Positive<double>());
-  r.Get("min_fitness", &g.min_fitness, InRange(0.0, 1.0));
-  r.Get("num_threads", &g.num_threads, NonNegative<int>());
+  r.Get("previous_stations", &s.previous_stations);
+  r.Get("min_range_m", &g.min_range_m);
+  r.Get("max_range_m", &g.max_range_m);
+  r.Get("voxel_size_m", &g.voxel_size_m);
+  r.Get("max_tilt_deg", &g.max_tilt_deg);
+  r.Get("max_correspondence_m", &g.max_correspondence_m);
+  r.Get("min_fitness", &g.min_fitness);
+  r.Get("num_threads", &g.num_threads);
   r.Finish();
-  const std::string error = g.Validate();
-  if (!error.empty()) r.FailSection(error);
+  r.FailIfInvalid(s.Validate());
   return s;
 }
 
@@ -38,10 +42,11 @@ PointCloud LidarIcpNode::Prepare(const station_t& station) {
 motion_t LidarIcpNode::Pair(int previous_id, const PointCloud& previous, const station_t& station,
                             const PointCloud& current) {
   const auto result = lidar_icp::Register(previous, current, settings_.registration);
-  motion_t motion = result.converged
+  motion_t motion = result.usable()
                         ? MakeMotion(previous_id, station.id, "lidar", result.T_li_lj, true, result.covariance,
                                      station.utime)
-                        : MakeFailedMotion(previous_id, station.id, "lidar", result.failure_reason, station.utime);
+                        : MakeFailedMotion(previous_id, station.id, "lidar", result.failure_reason.text,
+                                           station.utime);
   motion.fitness = result.fitness;
   motion.rmse = result.inlier_rms_m;
   motion.iterations = result.iterations;

@@ -12,11 +12,14 @@
 namespace fusecal {
 
 struct LidarIcpNodeSettings {
-  int previous_stations = 1;  // register each station to this many previous ones
+  int previous_stations = 1;  // register each station to this many previous ones, in [1, 10]
   lidar_icp::RegistrationSettings registration;
+
+  // Empty when usable, else what is wrong: previous_stations, or registration.Validate()'s message.
+  std::string Validate() const;
 };
 
-// Reads the `lidar_icp` section (unknown keys rejected).
+// Reads the `lidar_icp` section (unknown keys rejected; the ranges are those of Validate()).
 LidarIcpNodeSettings ReadLidarIcpNodeSettings(ConfigReader section);
 
 class LidarIcpNode : public StationPairNode<PointCloud> {

@@ -1,5 +1,6 @@
 #include "stationarity/node/stationarity_node.hpp"
 
+#include <cmath>
 #include <memory>
 
 #include "formats/conversions.hpp"
@@ -7,19 +8,26 @@
 
 namespace fusecal {
 
+std::string StationarityNodeSettings::Validate() const {
+  if (raw_queue_depth < 1 || raw_queue_depth > 1000) return "raw_queue_depth: must be in [1, 1000]";
+  if (!(std::isfinite(max_image_rate_hz) && max_image_rate_hz >= 0))
+    return "max_image_rate_hz: must not be negative";
+  return detector.Validate();
+}
+
 StationarityNodeSettings ReadStationarityNodeSettings(ConfigReader r) {
   StationarityNodeSettings s;
   auto& d = s.detector;
-  r.Get("min_still_s", &d.min_still_s, Positive<double>());
-  r.Get("merge_scans", &d.merge_scans, InRange(1, 20));
-  r.Get("max_pair_dt_s", &d.max_pair_dt_s, Positive<double>());
-  r.Get("still_flow_px", &d.image.still_flow_px, Positive<double>());
-  r.Get("still_change_m", &d.lidar.still_change_m, Positive<double>());
-  r.Get("raw_queue_depth", &s.raw_queue_depth, InRange(1, 1000));
-  r.Get("max_image_rate_hz", &s.max_image_rate_hz, NonNegative<double>());
+  r.Get("min_still_s", &d.min_still_s);
+  r.Get("merge_scans", &d.merge_scans);
+  r.Get("max_pair_dt_s", &d.max_pair_dt_s);
+  r.Get("still_flow_px", &d.image.still_flow_px);
+  r.Get("still_change_m", &d.lidar.still_change_m);
+  r.Get("raw_queue_depth", &s.raw_queue_depth);
+  r.Get("max_image_rate_hz", &s.max_image_rate_hz);
   r.Finish();
-  const std::string error = d.Validate();
-  if (!error.empty()) r.FailSection(error);
+  r.FailIfInvalid(s.Validate(),
+                  {{"still_flow_px", "image.still_flow_px"}, {"still_change_m", "lidar.still_change_m"}});
   return s;
 }
 

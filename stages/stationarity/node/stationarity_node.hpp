@@ -28,8 +28,11 @@ namespace fusecal {
 
 struct StationarityNodeSettings {
   StationaritySettings detector;
-  int raw_queue_depth = 2;         // frames kept per stream while the detector is busy
+  int raw_queue_depth = 2;         // frames kept per stream while the detector is busy, in [1, 1000]
   double max_image_rate_hz = 5.0;  // images taken at most this often (0: every image)
+
+  // Empty when usable, else what is wrong: a field above, or detector.Validate()'s message.
+  std::string Validate() const;
 };
 
 StationarityNodeSettings ReadStationarityNodeSettings(ConfigReader section);

@@ -1,0 +1,34 @@
+// fusecal-ros2-tf: ROS 2 without ROS. Every EXTRINSIC becomes a tf2_msgs/TFMessage on the DDS topic
+// `rt/tf_static` (reliable, transient local, depth 1, as tf2_ros's static broadcaster does), so a ROS 2
+// system on the same domain sees parent_frame -> child_frame (T_camera_lidar) with no bridge. The types
+// are generated from ros2_messages.idl by Cyclone's idlc.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "fusecal/extrinsic_t.hpp"
+#include "ros2_tf/node/ros2_tf_settings.hpp"
+#include "runtime/stage_main.hpp"
+
+namespace fusecal {
+
+class Ros2TfNode : public StageNode {
+ public:
+  // Throws std::runtime_error when the DDS participant, topic or writer cannot be made.
+  explicit Ros2TfNode(const Ros2TfSettings& settings);
+  ~Ros2TfNode() override;
+  void Start(Bus& bus) override;
+  StageStatus Status() const override;
+
+ private:
+  void OnExtrinsic(const extrinsic_t& extrinsic);
+
+  Ros2TfSettings settings_;
+  int participant_ = 0, writer_ = 0;  // dds_entity_t
+  std::vector<Subscription> subscriptions_;
+  int published_ = 0;
+  int last_version_ = -1;
+};
+
+}  // namespace fusecal

@@ -1,0 +1,22 @@
+// Settings of fusecal-ros2-tf (section `ros2_tf` of the pipeline config).
+#pragma once
+
+#include <string>
+
+#include "runtime/config_reader.hpp"
+
+namespace fusecal {
+
+struct Ros2TfSettings {
+  bool enabled = false;  // `fusecal run` starts fusecal-ros2-tf with the stages
+  int domain = 0;                     // the ROS 2 domain (ROS_DOMAIN_ID)
+  std::string parent_frame = "camera";  // header.frame_id: T_camera_lidar maps the child into it
+  std::string child_frame = "lidar";    // child_frame_id
+
+  // Empty when usable, else what is wrong: domain in [0, 232]; two different, non-empty frame ids.
+  std::string Validate() const;
+};
+
+Ros2TfSettings ReadRos2TfSettings(ConfigReader section);
+
+}  // namespace fusecal

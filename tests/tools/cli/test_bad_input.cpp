@@ -1,0 +1,288 @@
+// The bad-input suite: every command given inputs that are wrong in one way (empty, truncated,
+// bit-flipped, of another kind, degenerate) must end with a clear error naming the input, an exit code
+// between 1 and 125 (not a crash: a signal shows as 128+N through the shell, a hang as timeout's 124),
+// and never report "converged". The inputs are written by the test itself.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <array>
+#include <cmath>
+#include <ostream>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
+
+#include "support/process_utils.hpp"
+#include "fusecal/camera_info_t.hpp"
+#include "fusecal/station_t.hpp"
+#include "runtime/lcm_log.hpp"
+
+namespace fusecal {
+namespace {
+
+using testing_utils::RunCommand;
+
+const std::string kFusecal = FUSECAL_BIN;
+const std::string kScenarios = SCENARIO_DIR;
+const std::string kConfig = PIPELINE_CONFIG;
+
+std::string Dir() {
+  static const std::string dir = [] {
+    const std::string d = testing::TempDir() + "fusecal_bad_" + std::to_string(getpid());
+    RunCommand("mkdir -p " + d);
+    return d;
+  }();
+  return dir;
+}
+std::string In(const std::string& name) { return Dir() + "/" + name; }
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+void WriteAll(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+// A small valid log with stations, made once (the tiny scenario, stations only).
+const std::string& GoodLog() {
+  static const std::string log = [] {
+    const std::string path = In("good.lcmlog");
+    RunCommand(kFusecal + " simulate --scenario " + kScenarios + "/tiny-equirect.yaml --stations-only --out " + path +
+               " 2>&1");
+    return path;
+  }();
+  return log;
+}
+
+void WriteBin(const std::string& path, const std::vector<float>& xyzi) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(xyzi.data()), static_cast<std::streamsize>(xyzi.size() * sizeof(float)));
+}
+
+// A room: walls of a 10 m x 6 m box, floor, ceiling and a pillar (no symmetry, every direction
+// constrained), as a KITTI .bin holds it (x, y, z, intensity).
+std::vector<float> BoxCloud() {
+  std::vector<float> v;
+  auto add = [&](float x, float y, float z) { v.insert(v.end(), {x, y, z, 0.5f}); };
+  for (int a = 0; a <= 50; ++a)
+    for (int b = 0; b <= 20; ++b) {
+      const float s = a / 50.0f, h = -1.5f + 3.5f * b / 20.0f;
+      add(5, -3 + 6 * s, h), add(-5, -3 + 6 * s, h), add(-5 + 10 * s, 3, h), add(-5 + 10 * s, -3, h);
+      add(-5 + 10 * s, -3 + 6 * b / 20.0f, -1.5f), add(-5 + 10 * s, -3 + 6 * b / 20.0f, 2.0f);
+      add(2.0f + 0.3f * std::cos(6.28f * s), 1.0f + 0.3f * std::sin(6.28f * s), h);
+    }
+  return v;
+}
+
+void WriteCamera(const std::string& path, const std::string& text) { WriteAll(path, text); }
+const char* kPanoramaCamera = "model: equirectangular\nwidth: 256\nheight: 128\n";
+
+std::string CsvHeader() { return "a_qw,a_qx,a_qy,a_qz,a_tx,a_ty,a_tz,b_qw,b_qx,b_qy,b_qz,b_tx,b_ty,b_tz\n"; }
+
+// Rotations about the z axis only (A = B: X = identity), which leave part of X undetermined.
+std::string OneAxisCsv(int rows) {
+  std::string csv = CsvHeader();
+  for (int k = 1; k <= rows; ++k) {
+    const double half = 0.5 * (10.0 + 7.0 * k) * M_PI / 180.0;
+    const std::string q = std::to_string(std::cos(half)) + ",0,0," + std::to_string(std::sin(half));
+    const std::string t = std::to_string(0.1 * k) + "," + std::to_string(0.05 * k) + ",0";
+    csv += q + "," + t + "," + q + "," + t + "\n";
+  }
+  return csv;
+}
+
+// A config: the pipeline's own with one line appended under `section` (or at the top level).
+std::string ConfigWith(const std::string& name, const std::string& section, const std::string& line) {
+  std::string text = ReadAll(kConfig);
+  if (section.empty()) {
+    text += line + "\n";
+  } else {
+    const size_t at = text.find("\n" + section + ":");
+    const size_t eol = text.find('\n', at + 1);
+    std::string head = text.substr(at + 1, eol - at - 1);
+    if (head.find("{}") != std::string::npos) text.replace(at + 1, eol - at - 1, section + ":");
+    const size_t insert = text.find('\n', at + 1);
+    text.insert(insert + 1, "  " + line + "\n");
+  }
+  const std::string path = In(name);
+  WriteAll(path, text);
+  return path;
+}
+
+// A copy of the good log with one extra STATION event whose bytes are `payload`.
+std::string LogWithStationBytes(const std::string& name, const std::vector<uint8_t>& payload) {
+  const std::string path = In(name);
+  WriteAll(path, ReadAll(GoodLog()));
+  {
+    LogReader reader(GoodLog());
+    LogWriter writer(path);
+    int64_t last = 0;
+    while (auto e = reader.Next()) {
+      writer.Write(e->channel, e->utime, e->data.data(), e->data.size());
+      last = e->utime;
+    }
+    writer.Write("STATION", last + 1000, payload.data(), payload.size());
+  }
+  return path;
+}
+
+struct BadCase {
+  std::string name;
+  std::function<void()> make;  // writes the inputs
+  std::string command;         // after `fusecal `
+  std::string names;           // the output must contain this (the input, or what is wrong with it)
+  // false: a bad message inside a log that the pipeline rejects (logged) and goes on without; the
+  // answer from the rest may well be "converged".
+  bool fails = true;
+};
+void PrintTo(const BadCase& c, std::ostream* os) { *os << c.name; }
+
+std::vector<BadCase> Cases() {
+  const std::string log = In("bad.lcmlog"), scan = In("bad.bin"), good_scan = In("box.bin");
+  const std::string image = In("bad.png"), good_image = In("good.png"), camera = In("camera.yaml");
+  const std::string csv = In("bad.csv"), result = In("out.yaml");
+  auto good_inputs = [=] {
+    WriteBin(good_scan, BoxCloud());
+    cv::Mat textured(128, 256, CV_8UC1);
+    cv::randu(textured, 0, 255);
+    cv::imwrite(good_image, textured);
+    WriteCamera(camera, kPanoramaCamera);
+  };
+  auto calibrate = [](const std::string& l) { return "calibrate --log " + l + " --out " + In("cal-out"); };
+  std::vector<BadCase> c;
+  // --- logs ---
+  c.push_back({"EmptyLog", [=] { WriteAll(log, ""); }, calibrate(log), "bad.lcmlog"});
+  c.push_back({"EmptyLogInfo", [=] { WriteAll(log, ""); }, "log info " + log, "bad.lcmlog: no events"});
+  c.push_back({"TruncatedLog", [=] { const std::string b = ReadAll(GoodLog()); WriteAll(log, b.substr(0, b.size() / 2)); },
+               calibrate(log), "truncated"});
+  c.push_back({"TruncatedLogDump", [=] { const std::string b = ReadAll(GoodLog()); WriteAll(log, b.substr(0, 100)); },
+               "log dump " + log, "truncated"});
+  c.push_back({"BitFlippedLog", [=] {
+                 std::string b = ReadAll(GoodLog());
+                 for (size_t k = 20; k < b.size(); k += 997) b[k] = static_cast<char>(b[k] ^ 0x5a);
+                 WriteAll(log, b);
+               },
+               calibrate(log), "bad.lcmlog"});
+  c.push_back({"PngAsLog", [=] { good_inputs(); WriteAll(log, ReadAll(good_image)); }, calibrate(log), "bad.lcmlog"});
+  c.push_back({"MissingLog", [] {}, calibrate(In("absent.lcmlog")), "absent.lcmlog"});
+  c.push_back({"StationOfAnotherType", [=] {
+                 camera_info_t info{};
+                 info.model = "pinhole";
+                 std::vector<uint8_t> bytes(info.getEncodedSize());
+                 info.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+                 LogWithStationBytes("wrong-type.lcmlog", bytes);
+               },
+               calibrate(In("wrong-type.lcmlog")), "stage error (continuing): cannot decode a station_t on channel STATION",
+               false});
+  c.push_back({"StationCutShort", [=] {
+                 LogReader reader(GoodLog());
+                 std::vector<uint8_t> station;
+                 while (auto e = reader.Next())
+                   if (e->channel == "STATION") { station = e->data; break; }
+                 station.resize(station.size() / 3);
+                 LogWithStationBytes("short-station.lcmlog", station);
+               },
+               calibrate(In("short-station.lcmlog")), "stage error (continuing): cannot decode a station_t on channel STATION",
+               false});
+  // --- scans ---
+  c.push_back({"EmptyScan", [=] { good_inputs(); WriteAll(scan, ""); }, "register " + scan + " " + good_scan,
+               "bad.bin -> " + good_scan + ": scan i has 0 valid points of 0"});
+  c.push_back({"AllNanScan", [=] { good_inputs(); WriteBin(scan, std::vector<float>(4000, NAN)); },
+               "register " + good_scan + " " + scan, "scan j has 0 valid points of 1000"});
+  c.push_back({"OnePointScan", [=] { good_inputs(); WriteBin(scan, {1, 2, 3, 0}); }, "register " + good_scan + " " + scan,
+               "reason"});
+  c.push_back({"ScanOfOddSize", [=] { good_inputs(); WriteAll(scan, std::string(4 * 4 * 10 + 6, '\1')); },
+               "register " + scan + " " + good_scan, "bad.bin"});
+  c.push_back({"TextAsPcd", [=] { good_inputs(); WriteAll(In("bad.pcd"), "this is not a point cloud\n"); },
+               "register " + In("bad.pcd") + " " + good_scan, "bad.pcd"});
+  c.push_back({"ScanOfUnknownKind", [=] { good_inputs(); WriteAll(In("bad.xyz"), "1 2 3\n"); },
+               "register " + In("bad.xyz") + " " + good_scan, "unsupported extension"});
+  // --- images ---
+  c.push_back({"EmptyImageFile", [=] { good_inputs(); WriteAll(image, ""); },
+               "camera-motion " + image + " " + good_image + " --camera " + camera, "bad.png"});
+  c.push_back({"OnePixelImage", [=] { good_inputs(); cv::imwrite(image, cv::Mat(1, 1, CV_8UC1, cv::Scalar(9))); },
+               "camera-motion " + image + " " + good_image + " --camera " + camera, "1x1"});
+  c.push_back({"BlackImages", [=] { good_inputs(); cv::imwrite(image, cv::Mat(128, 256, CV_8UC1, cv::Scalar(0))); },
+               "camera-motion " + image + " " + image + " --camera " + camera, "reason"});
+  c.push_back({"ImageOfAnotherSize", [=] { good_inputs(); cv::imwrite(image, cv::Mat(100, 300, CV_8UC1, cv::Scalar(50))); },
+               "camera-motion " + good_image + " " + image + " --camera " + camera, "300x100"});
+  c.push_back({"CameraOfUnknownModel", [=] { good_inputs(); WriteCamera(In("bad-camera.yaml"), "model: fisheye\nwidth: 256\nheight: 128\n"); },
+               "camera-motion " + good_image + " " + good_image + " --camera " + In("bad-camera.yaml"), "model"});
+  c.push_back({"CameraWithNegativeFocalLength", [=] {
+                 good_inputs();
+                 WriteCamera(In("bad-camera.yaml"), "model: pinhole\nwidth: 256\nheight: 128\nfx: -100\nfy: 100\ncx: 128\ncy: 64\n");
+               },
+               "camera-motion " + good_image + " " + good_image + " --camera " + In("bad-camera.yaml"), "fx"});
+  // --- motions ---
+  c.push_back({"MotionsWithNan", [=] { WriteAll(csv, CsvHeader() + "nan,0,0,0,0,0,0,1,0,0,0,0,0,0\n"); },
+               "handeye --motions " + csv + " --camera-scaled --out " + result, "NaN"});
+  c.push_back({"OneMotion", [=] { WriteAll(csv, OneAxisCsv(1)); }, "handeye --motions " + csv + " --camera-scaled --out " + result,
+               "too_few_motions"});
+  c.push_back({"MotionsAboutOneAxis", [=] { WriteAll(csv, OneAxisCsv(8)); },
+               "handeye --motions " + csv + " --camera-scaled --out " + result, "observability: rotation_degenerate"});
+  c.push_back({"EmptyMotionsFile", [=] { WriteAll(csv, ""); }, "handeye --motions " + csv + " --out " + result, "header"});
+  // --- configs ---
+  c.push_back({"ConfigOfWrongType", [=] { ConfigWith("c1.yaml", "stationarity", "min_still_s: abc"); },
+               calibrate(GoodLog()) + " --config " + In("c1.yaml"), "min_still_s"});
+  c.push_back({"ConfigNegativeThreshold", [=] { ConfigWith("c2.yaml", "lidar_icp", "max_range_m: -1"); },
+               calibrate(GoodLog()) + " --config " + In("c2.yaml"), "max_range_m"});
+  c.push_back({"ConfigNanThreshold", [=] { ConfigWith("c3.yaml", "handeye", "tolerance_rotation_deg: .nan"); },
+               calibrate(GoodLog()) + " --config " + In("c3.yaml"), "tolerance_rotation_deg"});
+  c.push_back({"ConfigUnknownKey", [=] { ConfigWith("c4.yaml", "camera_frontend", "detection_scael: 0.5"); },
+               calibrate(GoodLog()) + " --config " + In("c4.yaml"), "detection_scael"});
+  c.push_back({"ConfigUnknownTopLevelKey", [=] { ConfigWith("c5.yaml", "", "stations_form: log"); },
+               calibrate(GoodLog()) + " --config " + In("c5.yaml"), "stations_form"});
+  c.push_back({"ConfigNotYaml", [=] { WriteAll(In("c6.yaml"), std::string("\x01\x02{[: ::\n\t- ]", 14)); },
+               calibrate(GoodLog()) + " --config " + In("c6.yaml"), "c6.yaml"});
+  c.push_back({"ConfigMissing", [] {}, calibrate(GoodLog()) + " --config " + In("absent.yaml"), "absent.yaml"});
+  c.push_back({"LiveWithoutSpeed", [] {}, "run --log " + GoodLog() + " --live --speed 0 --out " + In("live"), "--live"});
+  // --- scenarios and result files ---
+  c.push_back({"ScenarioWithUnknownKey", [=] {
+                 std::string s = ReadAll(kScenarios + "/tiny-equirect.yaml") + "\nweather: rainy\n";
+                 WriteAll(In("scenario.yaml"), s);
+               },
+               "simulate --scenario " + In("scenario.yaml") + " --out " + In("sim.lcmlog"), "weather"});
+  c.push_back({"ResultFileNotYaml", [=] { WriteAll(In("result.yaml"), "T_camera_lidar: [1, 2\n"); },
+               "evaluate --result " + In("result.yaml") + " --truth " + GoodLog(), "result.yaml"});
+  c.push_back({"ExportToUnknownFormat", [=] { WriteAll(In("result.yaml"), ""); },
+               "export " + In("result.yaml") + " --format urdf", "urdf"});
+  return c;
+}
+
+class BadInput : public testing::TestWithParam<BadCase> {};
+
+TEST_P(BadInput, ClearErrorNamingTheInputAndNoCrashNoConvergence) {
+  const BadCase& c = GetParam();
+  ASSERT_FALSE(GoodLog().empty());
+  c.make();
+  const auto r = RunCommand("timeout 120 " + kFusecal + " " + c.command + " 2>&1");
+  EXPECT_GE(r.exit_code, c.fails ? 1 : 0) << c.command << "\n" << r.output;
+  EXPECT_LE(r.exit_code, 123) << "crashed or hung (timeout: 124, signal: 128+N): " << c.command << "\n" << r.output;
+  EXPECT_NE(r.output.find(c.names), std::string::npos) << "the error does not say '" << c.names << "'\n" << r.output;
+  if (!c.fails) return;
+  EXPECT_EQ(r.output.find("result: converged"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("status: converged"), std::string::npos) << r.output;
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BadInput, testing::ValuesIn(Cases()),
+                         [](const testing::TestParamInfo<BadCase>& info) { return info.param.name; });
+
+// Identical scans are not an error: the motion between them is the identity.
+TEST(BadInputBoundaries, IdenticalScansRegisterToTheIdentity) {
+  const std::string scan = In("same.bin");
+  WriteBin(scan, BoxCloud());
+  const auto r = RunCommand("timeout 120 " + kFusecal + " register " + scan + " " + scan + " 2>&1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  EXPECT_TRUE(j["converged"].get<bool>()) << r.output;
+  const std::vector<double> T = j["T_a_b"].get<std::vector<double>>();
+  for (int k = 0; k < 12; ++k) EXPECT_NEAR(T[k], k % 5 == 0 ? 1.0 : 0.0, 1e-5) << "element " << k << ": " << r.output;
+}
+
+}  // namespace
+}  // namespace fusecal

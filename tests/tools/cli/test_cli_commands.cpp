@@ -1,0 +1,182 @@
+// The `fusecal` commands that wrap the cores: simulate (determinism, bad scenarios) and handeye (CSV).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+#include <nlohmann/json.hpp>
+
+#include "support/process_utils.hpp"
+#include "handeye/synthetic_motions.hpp"
+#include "formats/result_file.hpp"
+
+namespace fusecal {
+namespace {
+
+using testing_utils::RunCommand;
+const std::string kFusecal = FUSECAL_BIN;
+const std::string kScenarios = SCENARIO_DIR;
+
+std::string Temp(const std::string& name) {
+  return testing::TempDir() + "fusecal_cli_" + std::to_string(getpid()) + "_" + name;
+}
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+#ifdef FUSECAL_WITH_DDS
+// For a shared-memory DDS URL the doctor reports /dev/shm against RouDi's pools and whether RouDi is up,
+// and the round trip works either way (without RouDi over the network path).
+TEST(DoctorCommand, ChecksDevShmAndRoudiForSharedMemory) {
+  const auto doctor = RunCommand(kFusecal + " doctor --bus 'dds://?domain=27&shm=1' 2>&1");
+  EXPECT_NE(doctor.output.find("/dev/shm: "), std::string::npos) << doctor.output;
+  EXPECT_NE(doctor.output.find("RouDi's pools need"), std::string::npos) << doctor.output;
+  EXPECT_NE(doctor.output.find("iceoryx RouDi: "), std::string::npos) << doctor.output;
+  EXPECT_NE(doctor.output.find("a 1 MB message went round"), std::string::npos) << doctor.output;
+}
+#endif
+
+TEST(SimulateCommand, SameSeedSameBytesOtherSeedOtherBytes) {
+  const std::string a = Temp("a.lcmlog"), b = Temp("b.lcmlog"), c = Temp("c.lcmlog");
+  const std::string base = kFusecal + " simulate --scenario " + kScenarios + "/tiny-equirect.yaml";
+  ASSERT_EQ(RunCommand(base + " --out " + a + " 2>&1").exit_code, 0);
+  ASSERT_EQ(RunCommand(base + " --out " + b + " 2>&1").exit_code, 0);
+  ASSERT_EQ(RunCommand(base + " --seed 12345 --out " + c + " 2>&1").exit_code, 0);
+  const std::string bytes_a = ReadAll(a);
+  EXPECT_GT(bytes_a.size(), 1000000u);
+  EXPECT_TRUE(bytes_a == ReadAll(b)) << "same scenario and seed gave different logs";
+  EXPECT_FALSE(bytes_a == ReadAll(c)) << "a different seed gave the same log";
+  const auto info = RunCommand(kFusecal + " log info " + a);
+  EXPECT_NE(info.output.find("GROUND_TRUTH  count=1"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("CAMERA_IMAGE"), std::string::npos);
+  EXPECT_NE(info.output.find("LIDAR_SCAN"), std::string::npos);
+}
+
+TEST(SimulateCommand, StationsOnlyWritesOneStationPerStillInterval) {
+  const std::string log = Temp("stations.lcmlog");
+  ASSERT_EQ(RunCommand(kFusecal + " simulate --scenario " + kScenarios + "/tiny-equirect.yaml --stations-only --out " +
+                       log + " 2>&1")
+                .exit_code,
+            0);
+  const auto dump = RunCommand(kFusecal + " log dump " + log + " --channel GROUND_TRUTH");
+  const auto truth = nlohmann::json::parse(dump.output);
+  const int stills = truth["msg"]["num_stations"];
+  EXPECT_GE(stills, 3);
+  const auto info = RunCommand(kFusecal + " log info " + log);
+  EXPECT_NE(info.output.find("STATION  count=" + std::to_string(stills)), std::string::npos) << info.output;
+  EXPECT_EQ(info.output.find("CAMERA_IMAGE"), std::string::npos);
+}
+
+TEST(SimulateCommand, BadScenarioNamesTheKeyAndLeavesNoLog) {
+  const std::string scenario = Temp("bad.yaml"), log = Temp("bad.lcmlog");
+  std::string text = ReadAll(kScenarios + "/tiny-equirect.yaml");
+  text += "\nfavourite_colour: blue\n";
+  std::ofstream(scenario) << text;
+  const auto result = RunCommand(kFusecal + " simulate --scenario " + scenario + " --out " + log + " 2>&1");
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.output.find("favourite_colour"), std::string::npos) << result.output;
+  EXPECT_NE(access(log.c_str(), F_OK), 0);
+}
+
+void WriteCsv(const std::string& path, const SyntheticMotionSet& set, const std::string& extra_lines = "") {
+  std::ofstream out(path);
+  out.precision(17);
+  out << "a_qw,a_qx,a_qy,a_qz,a_tx,a_ty,a_tz,b_qw,b_qx,b_qy,b_qz,b_tx,b_ty,b_tz\n";
+  for (const auto& p : set.pairs) {
+    const Eigen::Quaterniond qa(p.A.linear()), qb(p.B.linear());
+    out << qa.w() << "," << qa.x() << "," << qa.y() << "," << qa.z() << "," << p.A.translation().x() << ","
+        << p.A.translation().y() << "," << p.A.translation().z() << "," << qb.w() << "," << qb.x() << "," << qb.y()
+        << "," << qb.z() << "," << p.B.translation().x() << "," << p.B.translation().y() << ","
+        << p.B.translation().z() << "\n";
+  }
+  out << extra_lines;
+}
+
+TEST(HandEyeCommand, SolvesScaledAndScalelessCsvAndReportsBadLines) {
+  for (const bool scaled : {true, false}) {
+    SyntheticMotionSettings settings;
+    settings.num_motions = 8;
+    settings.scaleless = !scaled;
+    settings.seed = 5;
+    const SyntheticMotionSet set = GenerateSyntheticMotions(settings);
+    const std::string csv = Temp(scaled ? "scaled.csv" : "scaleless.csv"), out = Temp("result.yaml");
+    WriteCsv(csv, set, "1,2,3\n0.5,0.5,0.5,0.5,0,0,0,nan,0,0,0,0,0,0\n2,0,0,0,0,0,0,1,0,0,0,0,0,0\n");
+    const auto result = RunCommand(kFusecal + " handeye --motions " + csv + (scaled ? " --camera-scaled" : "") +
+                                   " --out " + out + " 2>&1");
+    EXPECT_EQ(result.exit_code, 0) << result.output;
+    EXPECT_NE(result.output.find("line 10: needs 14 numbers"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("line 11: holds NaN"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("line 12: quaternion is not unit"), std::string::npos) << result.output;
+    const CalibrationResult r = ReadResultFile(out);
+    EXPECT_LT(RotationErrorDeg(r.T_camera_lidar.linear(), set.T_camera_lidar.linear()), 1e-6);
+    EXPECT_LT((r.T_camera_lidar.translation() - set.T_camera_lidar.translation()).norm(), 1e-6);
+    EXPECT_EQ(r.status, "converged");
+  }
+}
+
+TEST(HandEyeCommand, TooFewMotionsAndBadFilesFailClearly) {
+  SyntheticMotionSettings settings;
+  settings.num_motions = 1;
+  const std::string csv = Temp("one.csv"), out = Temp("one.yaml");
+  WriteCsv(csv, GenerateSyntheticMotions(settings));
+  const auto one = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scaled --out " + out + " 2>&1");
+  EXPECT_EQ(one.exit_code, 1);
+  EXPECT_NE(one.output.find("too_few_motions"), std::string::npos) << one.output;
+  std::ofstream(csv, std::ios::trunc) << "qw,qx\n1,0\n";
+  const auto bad = RunCommand(kFusecal + " handeye --motions " + csv + " --out " + out + " 2>&1");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find("header"), std::string::npos) << bad.output;
+  EXPECT_EQ(RunCommand(kFusecal + " handeye --motions /nonexistent.csv --out " + out + " 2>&1").exit_code, 1);
+}
+
+const std::string kKitti = KITTI_SNIPPET_DIR;
+
+TEST(StageCommands, RegisterCameraMotionAndStationsOnKitti) {
+  if (access((kKitti + "/calib_velo_to_cam.txt").c_str(), F_OK) != 0)
+    GTEST_SKIP() << "KITTI snippet not found at " << kKitti << ": real-data check not run";
+  const std::string scans = kKitti + "/velodyne_points/data/", images = kKitti + "/image_02/data/";
+  const auto reg = RunCommand(kFusecal + " register " + scans + "0000000000.bin " + scans + "0000000004.bin");
+  ASSERT_EQ(reg.exit_code, 0) << reg.output;
+  const auto r = nlohmann::json::parse(reg.output);
+  EXPECT_EQ(r["T_a_b"].size(), 16u);
+  EXPECT_TRUE(r["converged"].get<bool>());
+  EXPECT_NEAR(r["T_a_b"][3].get<double>(), 0.98, 0.1) << "the car drove about 1 m forward (LiDAR x)";
+
+  const std::string camera = Temp("kitti-camera.yaml");
+  std::ofstream(camera) << "model: pinhole\nwidth: 1242\nheight: 375\nfx: 721.5377\nfy: 721.5377\n"
+                        << "cx: 609.5593\ncy: 172.854\n";
+  const auto cam = RunCommand(kFusecal + " camera-motion " + images + "0000000000.png " + images +
+                              "0000000004.png --camera " + camera);
+  ASSERT_EQ(cam.exit_code, 0) << cam.output;
+  const auto c = nlohmann::json::parse(cam.output);
+  EXPECT_GT(c["t_unit"][2].get<double>(), 0.99) << "forward along the camera's z axis";
+  EXPECT_GT(c["inliers"].get<int>(), 100);
+
+  const std::string log = Temp("kitti.lcmlog");
+  ASSERT_EQ(RunCommand(kFusecal + " import kitti " + kKitti + " --out " + log + " 2>&1").exit_code, 0);
+  const auto stations = RunCommand(kFusecal + " stations " + log + " 2>/dev/null");
+  ASSERT_EQ(stations.exit_code, 0);
+  std::istringstream lines(stations.output);
+  std::string line;
+  std::vector<nlohmann::json> found;
+  while (std::getline(lines, line)) found.push_back(nlohmann::json::parse(line));
+  ASSERT_EQ(found.size(), 1u) << stations.output << " (one stop, at the end of the drive)";
+  EXPECT_GE(found[0]["image_utime"].get<int64_t>(), found[0]["still_from"].get<int64_t>());
+}
+
+TEST(StageCommands, MissingFilesFailWithTheirName) {
+  const auto reg = RunCommand(kFusecal + " register /nonexistent/a.bin /nonexistent/b.bin 2>&1");
+  EXPECT_EQ(reg.exit_code, 1);
+  EXPECT_NE(reg.output.find("/nonexistent/a.bin"), std::string::npos) << reg.output;
+  const auto cam = RunCommand(kFusecal + " camera-motion /nonexistent/a.png /nonexistent/b.png --camera " +
+                              kScenarios + "/../pipeline.yaml 2>&1");
+  EXPECT_EQ(cam.exit_code, 1);
+  const auto st = RunCommand(kFusecal + " stations /nonexistent.lcmlog 2>&1");
+  EXPECT_EQ(st.exit_code, 1);
+  EXPECT_NE(st.output.find("cannot open"), std::string::npos) << st.output;
+}
+
+}  // namespace
+}  // namespace fusecal

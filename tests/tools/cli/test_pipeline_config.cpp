@@ -1,0 +1,112 @@
+// The sections of the pipeline config: every stage's reader takes its ranges from the settings'
+// Validate(), and an out-of-range value is an error naming the key and the range.
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <string>
+
+#include "pipeline/pipeline_config.hpp"
+
+namespace fusecal {
+namespace {
+
+using Reader = std::function<void(ConfigReader)>;
+
+const Reader kStationarity = [](ConfigReader r) { ReadStationarityNodeSettings(r); };
+const Reader kLidarIcp = [](ConfigReader r) { ReadLidarIcpNodeSettings(r); };
+const Reader kCameraFrontend = [](ConfigReader r) { ReadCameraFrontendNodeSettings(r); };
+const Reader kFusionOdometry = [](ConfigReader r) { ReadFusionOdometryNodeSettings(r); };
+const Reader kHandEye = [](ConfigReader r) { ReadHandEyeNodeSettings(r); };
+const Reader kRos2Tf = [](ConfigReader r) { ReadRos2TfSettings(r); };
+
+// Reads `section: {line}` with `read`; the ConfigError message, or "" when accepted.
+std::string ErrorOf(const std::string& section, const std::string& line, const Reader& read) {
+  try {
+    read(ConfigReader::FromString(section + ": {" + line + "}").Child(section));
+    return "";
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+}
+
+struct Case {
+  std::string section, line;
+  const Reader* read;
+  std::string message;  // the error must contain it
+};
+
+TEST(PipelineConfig, OutOfRangeValuesNameTheKeyAndTheRange) {
+  const Case cases[] = {
+      {"stationarity", "merge_scans: 33", &kStationarity, "'stationarity.merge_scans' must be in [1, 32]"},
+      {"stationarity", "min_still_s: 0", &kStationarity, "'stationarity.min_still_s' must be positive"},
+      {"stationarity", "max_pair_dt_s: -1", &kStationarity, "'stationarity.max_pair_dt_s' must not be negative"},
+      {"stationarity", "still_flow_px: 0", &kStationarity, "'stationarity.still_flow_px' must be positive"},
+      {"stationarity", "still_change_m: -1", &kStationarity, "'stationarity.still_change_m' must be positive"},
+      {"stationarity", "raw_queue_depth: 0", &kStationarity, "'stationarity.raw_queue_depth' must be in [1, 1000]"},
+      {"stationarity", "max_image_rate_hz: -1", &kStationarity,
+       "'stationarity.max_image_rate_hz' must not be negative"},
+      {"lidar_icp", "previous_stations: 11", &kLidarIcp, "'lidar_icp.previous_stations' must be in [1, 10]"},
+      {"lidar_icp", "min_fitness: 1.5", &kLidarIcp, "'lidar_icp.min_fitness' must be in [0, 1]"},
+      {"lidar_icp", "max_tilt_deg: 200", &kLidarIcp, "'lidar_icp.max_tilt_deg' must be in [0, 180]"},
+      {"lidar_icp", "max_correspondence_m: -1", &kLidarIcp,
+       "'lidar_icp.max_correspondence_m' must be in [0, 100] (0 = automatic)"},
+      {"lidar_icp", "voxel_size_m: 20", &kLidarIcp, "'lidar_icp.voxel_size_m' must be in [0, 10]"},
+      {"lidar_icp", "num_threads: -1", &kLidarIcp, "'lidar_icp.num_threads' must be in [0, 1024]"},
+      {"lidar_icp", "max_range_m: -1", &kLidarIcp, "'lidar_icp.max_range_m' must be finite and greater than"},
+      {"camera_frontend", "previous_stations: 0", &kCameraFrontend,
+       "'camera_frontend.previous_stations' must be in [1, 10]"},
+      {"camera_frontend", "ratio: 0", &kCameraFrontend, "'camera_frontend.ratio' must be in (0, 1]"},
+      {"camera_frontend", "detection_scale: 2", &kCameraFrontend,
+       "'camera_frontend.detection_scale' must be in [0.1, 1]"},
+      {"camera_frontend", "max_features: 4", &kCameraFrontend, "'camera_frontend.max_features' must be at least 8"},
+      {"camera_frontend", "min_inliers: 4", &kCameraFrontend, "'camera_frontend.min_inliers' must be at least 8"},
+      {"fusion_odometry", "input_wait_s: -1", &kFusionOdometry,
+       "'fusion_odometry.input_wait_s' must not be negative"},
+      {"fusion_odometry", "reuse_rotation_deg: -1", &kFusionOdometry,
+       "'fusion_odometry.reuse_rotation_deg' must not be negative"},
+      {"handeye", "tolerance_rotation_deg: 0", &kHandEye, "'handeye.tolerance_rotation_deg' must be positive"},
+      {"handeye", "max_iterations: 0", &kHandEye, "'handeye.max_iterations' must be in [1, 1000]"},
+      {"handeye", "retry_s: -1", &kHandEye, "'handeye.retry_s' must not be negative"},
+      {"handeye", "min_pairs: 1", &kHandEye, "'handeye.min_pairs' must be >= 2"},
+      {"handeye", "min_rotation_deg: 200", &kHandEye, "'handeye.min_rotation_deg' must be in [0, 180)"},
+      {"handeye", "max_angle_difference_deg: 0", &kHandEye, "'handeye.max_angle_difference_deg' must be > 0"},
+      {"ros2_tf", "domain: 300", &kRos2Tf, "'ros2_tf.domain' must be in [0, 232]"},
+      {"ros2_tf", "child_frame: camera", &kRos2Tf,
+       "'ros2_tf': parent_frame and child_frame must be two different, non-empty frame ids"},
+  };
+  for (const Case& c : cases) {
+    const std::string error = ErrorOf(c.section, c.line, *c.read);
+    EXPECT_NE(error.find(c.message), std::string::npos) << c.line << ": got '" << error << "'";
+  }
+}
+
+TEST(PipelineConfig, ValuesWithinTheSettingsRangesAreAccepted) {
+  EXPECT_EQ(ErrorOf("stationarity", "merge_scans: 32", kStationarity), "");
+  EXPECT_EQ(ErrorOf("stationarity", "max_pair_dt_s: 0", kStationarity), "");
+  EXPECT_EQ(ErrorOf("lidar_icp", "max_correspondence_m: 0", kLidarIcp), "");  // automatic
+  EXPECT_EQ(ErrorOf("camera_frontend", "ratio: 0.05", kCameraFrontend), "");
+  EXPECT_EQ(ErrorOf("handeye", "min_pairs: 2000", kHandEye), "");
+  EXPECT_EQ(ErrorOf("ros2_tf", "domain: 232", kRos2Tf), "");
+}
+
+TEST(PipelineConfig, WrongTypesAndNonFiniteValuesAreStillNamed) {
+  const std::string nan = ErrorOf("handeye", "tolerance_rotation_deg: .nan", kHandEye);
+  EXPECT_NE(nan.find("'handeye.tolerance_rotation_deg' must be finite"), std::string::npos) << nan;
+  const std::string word = ErrorOf("stationarity", "merge_scans: many", kStationarity);
+  EXPECT_NE(word.find("'stationarity.merge_scans' has the wrong type"), std::string::npos) << word;
+}
+
+TEST(PipelineConfig, NodeSettingsValidateTheirOwnFieldsAndTheCores) {
+  EXPECT_EQ(LidarIcpNodeSettings().Validate(), "");
+  EXPECT_EQ(CameraFrontendNodeSettings().Validate(), "");
+  EXPECT_EQ(FusionOdometryNodeSettings().Validate(), "");
+  EXPECT_EQ(HandEyeNodeSettings().Validate(), "");
+  EXPECT_EQ(StationarityNodeSettings().Validate(), "");
+  EXPECT_EQ(Ros2TfSettings().Validate(), "");
+  HandEyeNodeSettings handeye;
+  handeye.solver.max_iterations = 0;  // the solver's, not the node's
+  EXPECT_EQ(handeye.Validate().rfind("solver.max_iterations", 0), 0u) << handeye.Validate();
+}
+
+}  // namespace
+}  // namespace fusecal

@@ -1,0 +1,37 @@
+// The files a calibration leaves in its output folder:
+//   extrinsic.yaml      the common result file, with the scaleless estimate as `initial`
+//   convergence.csv/png per version: change, and error against ground truth when the log has it
+//   overlay-<id>.png    per station: checkerboard of camera and LiDAR intensity images (the paper's
+//                       check) above the camera image with projected points coloured by depth
+//   colored_cloud.ply   station scans coloured from their images, in the frame of the first station
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "foundation/extrinsic_error.hpp"
+#include "pipeline/session.hpp"
+#include "formats/result_file.hpp"
+
+namespace fusecal {
+
+struct CalibrationOutputs {
+  bool has_result = false;
+  CalibrationResult final_result, initial_result;
+  std::optional<ExtrinsicError> final_error, initial_error;  // against ground truth, when known
+  std::optional<ObservableError> observable_error;          // when the result names an unobservable direction
+  std::vector<std::string> files;
+  std::vector<std::string> warnings;  // e.g. gnuplot missing
+};
+
+CalibrationResult ResultFromMessage(const extrinsic_t& message);
+
+CalibrationOutputs WriteCalibrationOutputs(const SessionRecord& session, const std::string& out_dir);
+
+// One paragraph for the terminal: verdict, estimate, errors when known, where the files are.
+std::string SummaryText(const CalibrationOutputs& outputs, const std::string& out_dir);
+
+// Whether the final result has converged (`run` and `calibrate` exit with 0 then).
+bool FinalConverged(const CalibrationOutputs& outputs);
+
+}  // namespace fusecal

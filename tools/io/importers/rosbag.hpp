@@ -1,0 +1,26 @@
+// ROS 1 bags into LCM logs (`fusecal import rosbag`), through Debian's rosbag_storage library.
+// Images (sensor_msgs/Image or CompressedImage) become CAMERA_IMAGE, clouds (sensor_msgs/PointCloud2)
+// LIDAR_SCAN, each at its header stamp; the camera model comes from --camera or the bag's CameraInfo.
+// The log holds no stations: the stationarity stage finds the stops, as it does live.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "foundation/camera_model.hpp"
+#include "importers/import_writer.hpp"
+
+namespace fusecal {
+
+struct RosbagImportOptions {
+  std::string image_topic;        // empty: an error listing the image topics of the bag
+  std::string cloud_topic;        // empty: an error listing the cloud topics of the bag
+  std::string camera_info_topic;  // empty: camera_info next to the image topic, or the bag's only one
+  std::optional<CameraParams> camera;  // from a camera file: used instead of any CameraInfo
+};
+
+// Throws std::runtime_error naming the bag and, for a missing or mistyped topic, every topic it has.
+ImportReport ImportRosbag(const std::string& bag_path, const std::string& out_log,
+                          const RosbagImportOptions& options, const ImportProgress& progress = nullptr);
+
+}  // namespace fusecal
