@@ -12,17 +12,16 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
+
+#include "runtime/bus_error.hpp"
+#include "runtime/channels.hpp"
 
 namespace fusecal {
 
 // Wall-clock time in microseconds since the epoch (LCM's utime).
 int64_t NowUtime();
-
-class BusError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 // One received message: its channel, its bytes, and when the bus received it. `data` is valid only during
 // the handler's call (iox:// points into shared memory that is handed back when the handler returns):
@@ -82,10 +81,6 @@ class Bus {
   // reader queue). 0 where the transport cannot tell (LCM). Stages report it in STATUS as bus_dropped.
   virtual uint64_t dropped_messages() const { return 0; }
 
-  // Datagrams this bus sent again because a subscriber asked (udpm://'s reliable layer; 0 elsewhere).
-  // Stages report it in STATUS as bus_resent: what the guarantee cost.
-  virtual uint64_t resent_datagrams() const { return 0; }
-
   template <typename M>
   void Publish(const std::string& channel, const M& message) {
     std::vector<uint8_t> buffer(message.getEncodedSize());
@@ -94,24 +89,31 @@ class Bus {
     PublishRaw(channel, buffer.data(), buffer.size());
   }
 
-  // Handler receives the decoded message. A message that fails to decode (wrong type on the channel,
-  // truncated) raises BusError from Handle() naming the channel.
+  // The same on a typed channel (runtime/channels.hpp): the message type is checked at compile time.
   template <typename M>
-  Subscription Subscribe(const std::string& channel,
-                         std::function<void(const M& message, const RawMessage& raw)> handler) {
-    return SubscribeRaw(channel, [handler = std::move(handler)](const RawMessage& raw) {
+  void Publish(const Channel<M>& channel, const M& message) {
+    Publish<M>(channel.name, message);
+  }
+
+  // `handler` is any callable taking (const M&) or (const M&, const RawMessage&); it receives the decoded
+  // message. A message that fails to decode (wrong type on the channel, truncated) raises BusError from
+  // Handle() naming the channel.
+  template <typename M, typename Handler>
+  Subscription Subscribe(const std::string& channel, Handler handler) {
+    return SubscribeRaw(channel, [handler = std::move(handler)](const RawMessage& raw) mutable {
       M message;
       DecodeMessage(raw.data, raw.size, raw.channel, &message);
-      handler(message, raw);
+      if constexpr (std::is_invocable_v<Handler&, const M&, const RawMessage&>)
+        handler(message, raw);
+      else
+        handler(message);
     });
   }
 
-  template <typename M>
-  Subscription Subscribe(const std::string& channel, std::function<void(const M& message)> handler) {
-    return Subscribe<M>(channel, std::function<void(const M&, const RawMessage&)>(
-                                     [handler = std::move(handler)](const M& m, const RawMessage&) {
-                                       handler(m);
-                                     }));
+  // The same on a typed channel: `bus.Subscribe(typed_channels::kStation, [](const station_t& s) {...})`.
+  template <typename M, typename Handler>
+  Subscription Subscribe(const Channel<M>& channel, Handler handler) {
+    return Subscribe<M>(std::string(channel.name), std::move(handler));
   }
 };
 

@@ -12,14 +12,6 @@ namespace {
 
 constexpr auto kEchoWindow = std::chrono::seconds(5);
 
-const std::set<std::string>& PipelineChannels() {
-  static const std::set<std::string> names = {
-      channels::kCameraImage, channels::kLidarScan,    channels::kCameraInfo,    channels::kStation,
-      channels::kLidarMotion, channels::kCameraMotion, channels::kFusedMotions, channels::kExtrinsic,
-      channels::kStatus,      channels::kGroundTruth};
-  return names;
-}
-
 uint64_t Hash(const RawMessage& message) {
   return std::hash<std::string_view>()(std::string_view(reinterpret_cast<const char*>(message.data), message.size));
 }
@@ -27,16 +19,16 @@ uint64_t Hash(const RawMessage& message) {
 }  // namespace
 
 BusBridge::BusBridge(Bus& coordinator, Bus& stages) : coordinator_(coordinator), stages_(stages) {
-  for (const auto& channel : PipelineChannels()) {
-    subscriptions_.push_back(coordinator_.SubscribeRaw(channel, [this](const RawMessage& m) { FromCoordinator(m); }));
-    subscriptions_.push_back(stages_.SubscribeRaw(channel, [this](const RawMessage& m) { FromStages(m); }));
+  for (const auto& channel : kPipelineChannels) {
+    subscriptions_.push_back(coordinator_.SubscribeRaw(channel.name, [this](const RawMessage& m) { FromCoordinator(m); }));
+    subscriptions_.push_back(stages_.SubscribeRaw(channel.name, [this](const RawMessage& m) { FromStages(m); }));
   }
   // Everything else (the pattern would match the pipeline's channels too: those are served above).
   subscriptions_.push_back(coordinator_.SubscribeRaw(".*", [this](const RawMessage& m) {
-    if (!PipelineChannels().count(m.channel)) FromCoordinator(m);
+    if (!IsPipelineChannel(m.channel)) FromCoordinator(m);
   }));
   subscriptions_.push_back(stages_.SubscribeRaw(".*", [this](const RawMessage& m) {
-    if (!PipelineChannels().count(m.channel)) FromStages(m);
+    if (!IsPipelineChannel(m.channel)) FromStages(m);
   }));
 }
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cctype>
 
-#include "runtime/bus.hpp"
+#include "runtime/bus_error.hpp"
 
 namespace fusecal {
 

@@ -1,17 +1,99 @@
-// Channel names of the pipeline (docs/design.md section 3). One place, so that nodes, tools and tests agree.
+// The channels of the pipeline (docs/design.md section 3): name, message type and how a transport carries
+// each. One place, so that nodes, tools, tests and every bus agree.
+//
+//   bulk   raw sensor frames (CAMERA_IMAGE, LIDAR_SCAN): only the newest matter, and the stationarity
+//          stage copes with a missing one; a transport may drop them under load or loss (DDS: best
+//          effort, keep last `bulk_depth`).
+//   state  everything the answer depends on (STATION, motions, EXTRINSIC, FUSED_MOTIONS, CAMERA_INFO,
+//          ...): every message, in order (DDS: reliable, deep enough for a round; STATION keep all).
+// A channel this table does not name (a user's own) is state.
 #pragma once
 
-namespace fusecal::channels {
+#include <string>
 
-inline constexpr const char* kCameraImage = "CAMERA_IMAGE";    // image_t, raw stream
-inline constexpr const char* kLidarScan = "LIDAR_SCAN";        // point_cloud_t, raw stream
-inline constexpr const char* kCameraInfo = "CAMERA_INFO";      // camera_info_t
-inline constexpr const char* kStation = "STATION";             // station_t
-inline constexpr const char* kLidarMotion = "LIDAR_MOTION";    // motion_t, sensor "lidar"
-inline constexpr const char* kCameraMotion = "CAMERA_MOTION";  // motion_t, sensor "camera", scaleless
-inline constexpr const char* kFusedMotions = "FUSED_MOTIONS";  // motion_set_t, scaled camera motions
-inline constexpr const char* kExtrinsic = "EXTRINSIC";         // extrinsic_t
-inline constexpr const char* kStatus = "STATUS";               // status_t heartbeat
-inline constexpr const char* kGroundTruth = "GROUND_TRUTH";    // ground_truth_t
+#include "fusecal/camera_info_t.hpp"
+#include "fusecal/extrinsic_t.hpp"
+#include "fusecal/ground_truth_t.hpp"
+#include "fusecal/image_t.hpp"
+#include "fusecal/motion_set_t.hpp"
+#include "fusecal/motion_t.hpp"
+#include "fusecal/point_cloud_t.hpp"
+#include "fusecal/station_t.hpp"
+#include "fusecal/status_t.hpp"
 
-}  // namespace fusecal::channels
+namespace fusecal {
+
+enum class ChannelKind { kBulk, kState };
+
+// A channel and the LCM type it carries: Bus::Publish and Bus::Subscribe check the type at compile time.
+// `large`: messages of megabytes (shared-memory transports size their queues for them).
+template <typename M>
+struct Channel {
+  using Message = M;
+  const char* name;
+  ChannelKind kind;
+  bool large;
+};
+
+namespace typed_channels {
+inline constexpr Channel<image_t> kCameraImage{"CAMERA_IMAGE", ChannelKind::kBulk, true};
+inline constexpr Channel<point_cloud_t> kLidarScan{"LIDAR_SCAN", ChannelKind::kBulk, true};
+inline constexpr Channel<camera_info_t> kCameraInfo{"CAMERA_INFO", ChannelKind::kState, false};
+inline constexpr Channel<station_t> kStation{"STATION", ChannelKind::kState, true};
+inline constexpr Channel<motion_t> kLidarMotion{"LIDAR_MOTION", ChannelKind::kState, false};    // sensor "lidar"
+inline constexpr Channel<motion_t> kCameraMotion{"CAMERA_MOTION", ChannelKind::kState, false};  // scaleless
+inline constexpr Channel<motion_set_t> kFusedMotions{"FUSED_MOTIONS", ChannelKind::kState, false};  // metric
+inline constexpr Channel<extrinsic_t> kExtrinsic{"EXTRINSIC", ChannelKind::kState, false};
+inline constexpr Channel<status_t> kStatus{"STATUS", ChannelKind::kState, false};  // 1 Hz heartbeat
+inline constexpr Channel<ground_truth_t> kGroundTruth{"GROUND_TRUTH", ChannelKind::kState, false};
+}  // namespace typed_channels
+
+// The names alone, for code that deals in names (logs, patterns, tables).
+namespace channels {
+inline constexpr const char* kCameraImage = typed_channels::kCameraImage.name;
+inline constexpr const char* kLidarScan = typed_channels::kLidarScan.name;
+inline constexpr const char* kCameraInfo = typed_channels::kCameraInfo.name;
+inline constexpr const char* kStation = typed_channels::kStation.name;
+inline constexpr const char* kLidarMotion = typed_channels::kLidarMotion.name;
+inline constexpr const char* kCameraMotion = typed_channels::kCameraMotion.name;
+inline constexpr const char* kFusedMotions = typed_channels::kFusedMotions.name;
+inline constexpr const char* kExtrinsic = typed_channels::kExtrinsic.name;
+inline constexpr const char* kStatus = typed_channels::kStatus.name;
+inline constexpr const char* kGroundTruth = typed_channels::kGroundTruth.name;
+}  // namespace channels
+
+// How a bus carries the channel called `name`: its kind and whether its messages are large. What every
+// bus asks, instead of keeping its own list of names.
+struct ChannelTraits {
+  const char* name = "";
+  ChannelKind kind = ChannelKind::kState;
+  bool large = false;
+};
+
+template <typename M>
+constexpr ChannelTraits TraitsOf(const Channel<M>& channel) {
+  return ChannelTraits{channel.name, channel.kind, channel.large};
+}
+
+// Every channel of the pipeline.
+inline constexpr ChannelTraits kPipelineChannels[] = {
+    TraitsOf(typed_channels::kCameraImage),  TraitsOf(typed_channels::kLidarScan),
+    TraitsOf(typed_channels::kCameraInfo),   TraitsOf(typed_channels::kStation),
+    TraitsOf(typed_channels::kLidarMotion),  TraitsOf(typed_channels::kCameraMotion),
+    TraitsOf(typed_channels::kFusedMotions), TraitsOf(typed_channels::kExtrinsic),
+    TraitsOf(typed_channels::kStatus),       TraitsOf(typed_channels::kGroundTruth)};
+
+// The traits of a pipeline channel; a name the pipeline does not use (a user's own) is state, small.
+inline ChannelTraits TraitsOfChannel(const std::string& name) {
+  for (const auto& channel : kPipelineChannels)
+    if (name == channel.name) return channel;
+  return ChannelTraits{};
+}
+
+inline bool IsPipelineChannel(const std::string& name) {
+  for (const auto& channel : kPipelineChannels)
+    if (name == channel.name) return true;
+  return false;
+}
+
+}  // namespace fusecal

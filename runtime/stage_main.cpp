@@ -47,8 +47,6 @@ void PublishStatus(Bus& bus, const std::string& name, const StageStatus& status,
   // The bus's own loss count, so that an overloaded transport shows in every heartbeat.
   msg.counter_names.push_back("bus_dropped");
   msg.counter_values.push_back(static_cast<double>(bus.dropped_messages()));
-  msg.counter_names.push_back("bus_resent");
-  msg.counter_values.push_back(static_cast<double>(bus.resent_datagrams()));
   msg.num_counters = static_cast<int32_t>(msg.counter_names.size());
   msg.last_error = last_error;
   bus.Publish(kStatusChannel, msg);

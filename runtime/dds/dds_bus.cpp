@@ -37,12 +37,6 @@ constexpr int kNewWriterWaitMs = 250;  // > RouDi's discovery interval (100 ms i
 // with larger chunks (`fusecal run` sets it from the pools it gives RouDi).
 constexpr long kDefaultShmMax = 4 * 1024 * 1024 - static_cast<long>(shm::kChunkOverheadBytes);
 
-// Channels of multi-megabyte messages: their history holds `bulk_depth` samples (each a 2-16 MB chunk
-// in shared memory), the others `depth`.
-bool IsBulkChannel(const std::string& channel) {
-  return channel == channels::kCameraImage || channel == channels::kLidarScan || channel == channels::kStation;
-}
-
 int64_t WallUtime() {
   return std::chrono::duration_cast<std::chrono::microseconds>(
              std::chrono::system_clock::now().time_since_epoch())
@@ -126,14 +120,12 @@ struct DdsBus::Impl {
   dds_entity_t waitset = 0;
   dds_entity_t publications = 0;  // DCPSPublication reader (for regex subscriptions)
   dds_entity_t publications_condition = 0;
-  dds_qos_t* qos = nullptr;       // small channels
-  dds_qos_t* bulk_qos = nullptr;  // IsBulkChannel
+  std::map<std::pair<std::string, bool>, dds_qos_t*> qos_by_channel;  // by channel and oversized (QosFor)
 
   std::mutex mutex;
   std::map<std::string, dds_entity_t> topics;   // by channel
   std::map<std::string, dds_entity_t> writers;  // by channel
   std::map<std::string, dds_entity_t> large_writers;  // by channel, for samples over shm_max (shm only)
-  dds_qos_t* large_qos = nullptr;
   std::map<dds_entity_t, uint64_t> sent;                // by writer: the last sequence number written
   std::set<std::string> large_notice_given;             // channels whose large samples were announced
   dds::SequenceGaps gaps;                               // by remote writer: the sequence numbers read
@@ -144,9 +136,7 @@ struct DdsBus::Impl {
 
   ~Impl() {
     if (participant > 0) dds_delete(participant);  // deletes every child entity
-    if (qos) dds_delete_qos(qos);
-    if (bulk_qos) dds_delete_qos(bulk_qos);
-    if (large_qos) dds_delete_qos(large_qos);
+    for (auto& [key, qos] : qos_by_channel) dds_delete_qos(qos);
     if (owns_domain_ref) {
       std::lock_guard<std::mutex> lock(g_domains_mutex);
       auto it = g_domains.find(domain_id);
@@ -157,7 +147,42 @@ struct DdsBus::Impl {
     }
   }
 
-  const dds_qos_t* QosFor(const std::string& channel) const { return IsBulkChannel(channel) ? bulk_qos : qos; }
+  // The QoS of a channel by its traits (runtime/channels.hpp), built once. Every participant builds the
+  // same one for a channel, so that all its writers and readers match.
+  //   state, small:  reliable, keep last `depth` (a round of the alternation is a few samples)
+  //   state, large (STATION): reliable, keep all: a reader that falls behind holds its writer back instead
+  //                  of losing a station; on shared memory keep last `bulk_depth` (Cyclone puts only
+  //                  keep-last endpoints on iceoryx, and every held sample is a pool chunk)
+  //   bulk (raw frames): best effort, keep last `bulk_depth`: a reader that falls behind, or one behind a
+  //                  lossy link (a recorder on another host), never holds the writer back; a reliable
+  //                  writer blocks up to 1 s on a full history and then drops the frame for every reader
+  //                  (measured: with 5 % loss towards a remote recorder the local detector lost frames)
+  //   oversized (shm only: larger than a chunk): the same plus a deadline, which Cyclone 0.10 never puts
+  //                  on shared memory, so such samples take the network path; compatible with every reader
+  //                  (they request none).
+  // Volatile: a reader gets what is written after it matched. Transient-local would hand a reader that
+  // joins late (a restarted stage) the writer's last sample ahead of the stations it is given again, out
+  // of order (measured: ICP then paired station 1 with 0). The first sample of a new writer is protected
+  // by the wait in PublishRaw instead.
+  const dds_qos_t* QosFor(const std::string& channel, bool oversized = false) {
+    auto& qos = qos_by_channel[{channel, oversized}];
+    if (qos) return qos;
+    const ChannelTraits traits = TraitsOfChannel(channel);
+    qos = dds_create_qos();
+    if (traits.kind == ChannelKind::kBulk)
+      dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
+    else
+      dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+    dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+    if (traits.kind == ChannelKind::kBulk || (traits.large && shm))
+      dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, bulk_depth);
+    else if (traits.large)
+      dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+    else
+      dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, depth);
+    if (oversized) dds_qset_deadline(qos, DDS_SECS(24 * 3600));
+    return qos;
+  }
 
   dds_entity_t TopicLocked(const std::string& channel) {
     auto it = topics.find(channel);
@@ -175,7 +200,7 @@ struct DdsBus::Impl {
     if (readers.count(channel)) return;
     auto reader = std::make_shared<Reader>();
     reader->channel = channel;
-    reader->samples.resize(IsBulkChannel(channel) ? kBulkTakeBatch : kTakeBatch);
+    reader->samples.resize(TraitsOfChannel(channel).large ? kBulkTakeBatch : kTakeBatch);
     reader->reader = dds_create_reader(participant, TopicLocked(channel), QosFor(channel), nullptr);
     if (reader->reader < 0)
       throw BusError("DDS: cannot create a reader for channel " + channel + " on " + url + ": " +
@@ -362,29 +387,6 @@ struct DdsBus::Impl {
     waitset = dds_create_waitset(participant);
     if (waitset < 0) throw BusError("DDS: cannot create a waitset for " + url);
   }
-
-  // The QoS of ordinary, bulk and larger-than-a-chunk channels.
-  void CreateQos() {
-    // One QoS for every participant of a domain, with or without shared memory, so that all endpoints
-    // match (a transient-local reader does not match a volatile writer).
-    qos = dds_create_qos();
-    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, depth);
-    // Volatile: a reader gets what is written after it matched. Transient-local would hand a reader that
-    // joins late (a restarted stage) the writer's last sample ahead of the stations it is given again,
-    // out of order (measured: ICP then paired station 1 with 0). The first sample of a new writer is
-    // protected by the wait in PublishRaw instead.
-    dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
-    bulk_qos = dds_create_qos();
-    dds_copy_qos(bulk_qos, qos);
-    dds_qset_history(bulk_qos, DDS_HISTORY_KEEP_LAST, bulk_depth);
-    // Messages larger than the biggest shared-memory chunk: the same QoS plus a (never missed in practice)
-    // deadline, which Cyclone 0.10 does not put on shared memory, so they take the network path. The
-    // deadline is compatible with every reader (they request none).
-    large_qos = dds_create_qos();
-    dds_copy_qos(large_qos, bulk_qos);
-    dds_qset_deadline(large_qos, DDS_SECS(24 * 3600));
-  }
 };
 
 DdsBus::DdsBus(const std::string& url) : impl_(std::make_shared<Impl>()) {
@@ -394,7 +396,6 @@ DdsBus::DdsBus(const std::string& url) : impl_(std::make_shared<Impl>()) {
   d.ChooseSharedMemory();
   d.OpenDomain();
   d.CreateParticipant();
-  d.CreateQos();
 }
 
 DdsBus::~DdsBus() = default;
@@ -425,7 +426,7 @@ void DdsBus::PublishRaw(const std::string& channel, const void* data, size_t siz
     if (it == writers.end()) {
       // A pattern subscription of this bus must read the channel before the first sample is written.
       d.OnTopicLocked(channel);
-      writer = dds_create_writer(d.participant, d.TopicLocked(channel), large ? d.large_qos : d.QosFor(channel),
+      writer = dds_create_writer(d.participant, d.TopicLocked(channel), d.QosFor(channel, large),
                                  nullptr);
       if (writer < 0)
         throw BusError("DDS: cannot create a writer for channel " + channel + " on " + d.url + ": " +

@@ -7,13 +7,14 @@
 // matching topics as their writers are discovered (DCPSPublication, local writers included).
 //
 // QoS and what it drops (the consequences, written down):
-// - Reliable, KEEP_LAST: `bulk_depth` samples on CAMERA_IMAGE, LIDAR_SCAN, STATION, `depth` on the
-//   others. A writer never blocks: under overload the oldest unacknowledged samples of its history
-//   are overwritten (network path), and over shared memory a reader queue holds `depth` samples and
-//   drops its oldest when full (iceoryx does not enforce RELIABLE). Either way the pipeline's reader
-//   sees a gap in the writer's sequence numbers: dropped_messages() counts them, and every stage
-//   reports the count as `bus_dropped` in STATUS. A raw-stream frame lost this way costs the
-//   stationarity detector a sample; a lost STATION costs a motion (the stages say which is missing).
+// - Per channel kind (runtime/channels.hpp; the rules are written at QosFor in dds_bus.cpp): state
+//   channels (STATION, motions, EXTRINSIC, FUSED_MOTIONS, CAMERA_INFO, ...) are reliable, `depth` deep
+//   (STATION: keep all on the network path), so loss on the link is re-sent; raw frames (CAMERA_IMAGE,
+//   LIDAR_SCAN) are best effort, `bulk_depth` deep, so that a slow or distant reader never holds a
+//   writer back. Over shared memory a reader queue drops its oldest when full (iceoryx does not
+//   enforce RELIABLE). Whatever a reader misses shows as a gap in the writer's sequence numbers:
+//   dropped_messages() counts them, and every stage reports the count as `bus_dropped` in STATUS. A raw
+//   frame lost this way costs the stationarity detector a sample.
 // - Durability: volatile, as LCM: a reader gets what is written after it matched (a restarted stage
 //   is given the stations again by `fusecal run`; transient-local would hand it the writer's last
 //   sample first, out of order). A new writer waits 250 ms before its first sample so that existing
@@ -30,7 +31,7 @@
 //                 fitting chunk) are sent by a writer with a deadline, which Cyclone keeps on the network
 //                 path, with one line on stderr. `fusecal run` sets it from the pools it gives RouDi.
 //   depth=N       KEEP_LAST history depth of small channels (default 64, at most 256)
-//   bulk_depth=N  KEEP_LAST history depth of image, scan and station channels (default 8)
+//   bulk_depth=N  KEEP_LAST history depth of raw frames, and of stations on shared memory (default 8)
 // The Cyclone configuration is generated (large socket receive buffer, 64 KB datagrams) so that
 // 2-6 MB images survive; $CYCLONEDDS_URI, when set, is applied on top of it.
 #pragma once

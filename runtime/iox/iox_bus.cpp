@@ -39,10 +39,6 @@ constexpr size_t kDiscoveryCapacity = 256;
 
 std::atomic<uint64_t> g_bus_count{0};
 
-bool IsBulkChannel(const std::string& channel) {
-  return channel == channels::kCameraImage || channel == channels::kLidarScan || channel == channels::kStation;
-}
-
 long ParseInt(const std::string& url, const std::string& key, const std::string& value, long lo, long hi) {
   try {
     size_t used = 0;
@@ -174,7 +170,8 @@ struct IoxBus::Impl {
     reader->channel = channel;
     iox_sub_options_t options;
     iox_sub_options_init(&options);
-    options.queueCapacity = static_cast<uint64_t>(IsBulkChannel(channel) ? bulk_depth : depth);
+    // Channels of megabyte messages (runtime/channels.hpp) queue `bulk_depth`: each queued one holds a chunk.
+    options.queueCapacity = static_cast<uint64_t>(TraitsOfChannel(channel).large ? bulk_depth : depth);
     options.historyRequest = 0;
     options.subscribeOnCreate = true;
     options.queueFullPolicy = QueueFullPolicy_DISCARD_OLDEST_DATA;

@@ -16,9 +16,10 @@
 //   ports every 100 ms). A new publisher therefore waits up to 250 ms on its first message until it has
 //   a subscriber, so that the first message on a channel is not lost; a channel nobody reads costs
 //   250 ms once.
-// - A publisher never blocks: a subscriber queue holds `bulk_depth` chunks on CAMERA_IMAGE, LIDAR_SCAN
-//   and STATION and `depth` on the others, and drops its oldest when full. The subscriber sees a gap in
-//   the publisher's sequence numbers: dropped_messages() counts it (stages report it as bus_dropped).
+// - A publisher never blocks: a subscriber queue holds `bulk_depth` chunks on the large channels of
+//   runtime/channels.hpp (CAMERA_IMAGE, LIDAR_SCAN, STATION) and `depth` on the others, and drops its
+//   oldest when full. The subscriber sees a gap in the publisher's sequence numbers: dropped_messages()
+//   counts it (stages report it as bus_dropped).
 //   With the defaults a subscriber that reads 20 ms of every 100 ms loses nothing at 30 Hz.
 // - Every queued chunk holds a chunk of RouDi's pools: the pools (shm::PlanPools, which `fusecal run`
 //   gives RouDi) need bulk_depth chunks per reader of a bulk channel, plus one per publisher.

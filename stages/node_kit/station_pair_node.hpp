@@ -33,8 +33,8 @@ class StationPairNode : public StageNode {
       : sensor_(std::move(sensor)), channel_(std::move(channel)), previous_stations_(previous_stations) {}
 
   void Start(Bus& bus) override {
-    subscriptions_.push_back(bus.Subscribe<station_t>(
-        channels::kStation, std::function<void(const station_t&)>([this, &bus](const station_t& s) { OnStation(bus, s); })));
+    subscriptions_.push_back(
+        bus.Subscribe(typed_channels::kStation, [this, &bus](const station_t& s) { OnStation(bus, s); }));
   }
 
   StageStatus Status() const override {

@@ -35,10 +35,6 @@ int FuzzOneGroundTruthLog(const uint8_t* data, size_t size);
 // and sequence number handled as DdsBus does.
 int FuzzOneDdsEnvelope(const uint8_t* data, size_t size);
 
-// udpm://'s reliable layer (entries_reliable.cpp): a sequence of received datagrams (fragments and
-// control messages) through one receiver and one publisher.
-int FuzzOneReliableUdpm(const uint8_t* data, size_t size);
-
 // The iox:// chunk (entries_iox.cpp, with iceoryx only): the user payload of one iceoryx chunk (header and
 // LCM bytes), checked and handed on as IoxBus does.
 int FuzzOneIoxChunk(const uint8_t* data, size_t size);

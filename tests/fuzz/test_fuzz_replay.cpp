@@ -36,7 +36,6 @@ const std::map<std::string, Entry>& Entries() {
 #ifdef FUSECAL_WITH_DDS
       {"dds_envelope", FuzzOneDdsEnvelope},
 #endif
-      {"reliable_udpm", FuzzOneReliableUdpm},
 #ifdef FUSECAL_WITH_IOX
       {"iox_chunk", FuzzOneIoxChunk},
 #endif

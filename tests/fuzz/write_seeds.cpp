@@ -21,8 +21,6 @@
 #include "fusecal/status_t.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
-#include "runtime/reliable/sender.hpp"
-#include "runtime/reliable/wire.hpp"
 #include "scan_io/scan_io.hpp"
 #ifdef FUSECAL_WITH_DDS
 #include "dds/ddsi/ddsi_cdrstream.h"
@@ -273,35 +271,6 @@ void WriteDdsSeeds() {
 void WriteDdsSeeds() { std::cerr << "fuzz_write_seeds: built without DDS, no dds_envelope seeds\n"; }
 #endif
 
-// Datagrams as a reliable udpm:// bus receives them (entries_reliable.cpp's records): fragments of two
-// messages with one lost, a NACK for the lost one, a SKIP, heartbeats.
-void WriteReliableSeeds() {
-  using namespace reliable;
-  std::vector<uint8_t> seed;
-  const auto record = [&seed](uint8_t kind, const std::vector<uint8_t>& bytes) {
-    seed.push_back(kind);
-    const uint16_t length = static_cast<uint16_t>(bytes.size());
-    seed.push_back(uint8_t(length & 0xff));
-    seed.push_back(uint8_t(length >> 8));
-    seed.insert(seed.end(), bytes.begin(), bytes.end());
-  };
-  ReliableSender other(11, SenderOptions{120, 1u << 20, 1000});
-  const std::vector<uint8_t> message(300, 5);
-  auto first = other.Publish("DATA", message.data(), message.size(), 1000100);
-  auto second = other.Publish("DATA", message.data(), 17, 1000200);
-  record(0 | (1 << 2), first[0].bytes);
-  record(0 | (30 << 2), first[2].bytes);  // first[1] lost: a NACK is due
-  for (const auto& f : second) record(2, f.bytes);
-  record(1, Encode(Nack{7, "DATA", 0, {{0, 2}}}));
-  record(1, Encode(Skip{11, "DATA", {1, 1}, 0}));
-  record(1 | (50 << 2), other.MakeHeartbeat()[0].bytes);
-  WriteBytes("reliable_udpm", "fragments_nack_skip_heartbeat", seed);
-  seed.clear();
-  record(1, Encode(Heartbeat{11, {{"DATA", 5}, {"DATA2", 0}}}));
-  record(1 | (63 << 2), Encode(Nack{7, "DATA", 1000000, {{0, 9}}}));
-  WriteBytes("reliable_udpm", "first_contact", seed);
-}
-
 }  // namespace
 }  // namespace fusecal
 
@@ -315,6 +284,5 @@ int main(int argc, char** argv) {
   fusecal::WriteLogSeeds();
   fusecal::WriteFileSeeds();
   fusecal::WriteDdsSeeds();
-  fusecal::WriteReliableSeeds();
   return 0;
 }

@@ -33,19 +33,16 @@ FusionOdometryNodeSettings ReadFusionOdometryNodeSettings(ConfigReader r) {
 }
 
 void FusionOdometryNode::Start(Bus& bus) {
-  subscriptions_.push_back(bus.Subscribe<station_t>(
-      channels::kStation, std::function<void(const station_t&)>([this, &bus](const station_t& s) {
-        OnStation(s);
-        AnswerPendingIfReady(bus, false);
-      })));
-  subscriptions_.push_back(bus.Subscribe<motion_t>(
-      channels::kLidarMotion, std::function<void(const motion_t&)>([this, &bus](const motion_t& m) {
-        if (m.valid) lidar_motions_[{m.station_i, m.station_j}] = FromRowMajor(m.T_i_j);
-        AnswerPendingIfReady(bus, false);
-      })));
-  subscriptions_.push_back(bus.Subscribe<extrinsic_t>(
-      channels::kExtrinsic,
-      std::function<void(const extrinsic_t&)>([this, &bus](const extrinsic_t& e) { OnExtrinsic(bus, e); })));
+  subscriptions_.push_back(bus.Subscribe(typed_channels::kStation, [this, &bus](const station_t& s) {
+    OnStation(s);
+    AnswerPendingIfReady(bus, false);
+  }));
+  subscriptions_.push_back(bus.Subscribe(typed_channels::kLidarMotion, [this, &bus](const motion_t& m) {
+    if (m.valid) lidar_motions_[{m.station_i, m.station_j}] = FromRowMajor(m.T_i_j);
+    AnswerPendingIfReady(bus, false);
+  }));
+  subscriptions_.push_back(
+      bus.Subscribe(typed_channels::kExtrinsic, [this, &bus](const extrinsic_t& e) { OnExtrinsic(bus, e); }));
 }
 
 void FusionOdometryNode::OnStation(const station_t& station) {

@@ -58,12 +58,11 @@ HandEyeNodeSettings ReadHandEyeNodeSettings(ConfigReader r) {
 }
 
 void HandEyeNode::Start(Bus& bus) {
-  auto on_motion = std::function<void(const motion_t&)>([this, &bus](const motion_t& m) { OnMotion(bus, m); });
-  subscriptions_.push_back(bus.Subscribe<motion_t>(channels::kCameraMotion, on_motion));
-  subscriptions_.push_back(bus.Subscribe<motion_t>(channels::kLidarMotion, on_motion));
-  subscriptions_.push_back(bus.Subscribe<motion_set_t>(
-      channels::kFusedMotions,
-      std::function<void(const motion_set_t&)>([this, &bus](const motion_set_t& s) { OnFusedMotions(bus, s); })));
+  const auto on_motion = [this, &bus](const motion_t& m) { OnMotion(bus, m); };
+  subscriptions_.push_back(bus.Subscribe(typed_channels::kCameraMotion, on_motion));
+  subscriptions_.push_back(bus.Subscribe(typed_channels::kLidarMotion, on_motion));
+  subscriptions_.push_back(
+      bus.Subscribe(typed_channels::kFusedMotions, [this, &bus](const motion_set_t& s) { OnFusedMotions(bus, s); }));
 }
 
 void HandEyeNode::OnMotion(Bus& bus, const motion_t& motion) {

@@ -39,8 +39,7 @@ Ros2TfNode::~Ros2TfNode() {
 }
 
 void Ros2TfNode::Start(Bus& bus) {
-  subscriptions_.push_back(bus.Subscribe<extrinsic_t>(
-      channels::kExtrinsic, std::function<void(const extrinsic_t&)>([this](const extrinsic_t& e) { OnExtrinsic(e); })));
+  subscriptions_.push_back(bus.Subscribe(typed_channels::kExtrinsic, [this](const extrinsic_t& e) { OnExtrinsic(e); }));
 }
 
 // T_camera_lidar maps points of the child frame (LiDAR) into the parent (camera): exactly tf's

@@ -32,8 +32,7 @@ StationarityNodeSettings ReadStationarityNodeSettings(ConfigReader r) {
 }
 
 void StationarityNode::Start(Bus& bus) {
-  subscriptions_.push_back(bus.Subscribe<camera_info_t>(
-      channels::kCameraInfo, std::function<void(const camera_info_t&)>([this](const camera_info_t& c) { camera_ = c; })));
+  subscriptions_.push_back(bus.Subscribe(typed_channels::kCameraInfo, [this](const camera_info_t& c) { camera_ = c; }));
   subscriptions_.push_back(
       bus.SubscribeRaw(channels::kCameraImage, [this](const RawMessage& raw) { Queue(true, raw); }));
   subscriptions_.push_back(

@@ -77,7 +77,6 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
       std::cout << "; stage restarts: " << report.restarts;
       if (report.roudi_restarts > 0) std::cout << "; RouDi restarts: " << report.roudi_restarts;
       if (report.bus_counts_losses) std::cout << "; messages lost by the bus: " << report.bus_dropped;
-      if (report.bus_resent > 0) std::cout << " (datagrams sent again when asked: " << report.bus_resent << ")";
       std::cout << "\n" << StageTableText(report.stage_counters, report.span_s) << LatencyText(report.latencies);
       *exit_code = FinalConverged(report.outputs) ? 0 : 1;
     } catch (const std::exception& e) {

@@ -306,8 +306,7 @@ class PipelineRun {
   }
 
   RunReport Finish() {
-    report_.bus_counts_losses = url_.rfind("dds://", 0) == 0 || url_.rfind("iox://", 0) == 0 ||
-                                (url_.rfind("udpm://", 0) == 0 && UrlParameter(url_, "reliable") != "0");
+    report_.bus_counts_losses = url_.rfind("dds://", 0) == 0 || url_.rfind("iox://", 0) == 0;
     if (player_) PublishPlayerStatus("done");  // the runs on other hosts stop their stages and write outputs
     supervisor_.Stop();
     transport_.Stop();  // after the stages: stopping RouDi ends whatever is still attached to it
@@ -318,11 +317,8 @@ class PipelineRun {
     if (player_) PublishPlayerStatus("done");  // again, in case the first was lost
     report_.stage_counters = session_.stage_counters();
     report_.bus_dropped = static_cast<double>(bus_->dropped_messages());
-    report_.bus_resent = static_cast<double>(bus_->resent_datagrams());
-    for (const auto& [name, counters] : report_.stage_counters) {
+    for (const auto& [name, counters] : report_.stage_counters)
       report_.bus_dropped += StageCounter(counters, "bus_dropped");
-      report_.bus_resent += StageCounter(counters, "bus_resent");
-    }
     report_.span_s = first_utime_ < 0 ? 0.0 : (last_utime_ - first_utime_) * 1e-6;
     session_.Close();
     report_.outputs = WriteCalibrationOutputs(session_, options_.out_dir);

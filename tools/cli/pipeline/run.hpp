@@ -42,9 +42,8 @@ struct RunReport {
   CalibrationOutputs outputs;
   int restarts = 0;
   int roudi_restarts = 0;  // shared memory only: times RouDi was started again
-  bool bus_counts_losses = false;  // dds://, iox://, and udpm:// with its reliable layer, count what they lose
+  bool bus_counts_losses = false;  // dds:// and iox:// count what they lose (sequence gaps, full queues)
   double bus_dropped = 0;  // messages the buses of the stages and the coordinator know they lost
-  double bus_resent = 0;   // datagrams they sent again when asked (udpm://'s reliable layer)
   double total_seconds = 0;
   // Where the time went: starting the stages, playing the log, the stages' work after its end,
   // stopping them and writing the outputs.
