@@ -24,7 +24,9 @@
 namespace fusecal {
 namespace {
 
+using testing_utils::ReadAll;
 using testing_utils::RunCommand;
+using testing_utils::StartInBackground;
 
 const std::string kFusecal = FUSECAL_BIN;
 const std::string kScenarios = SCENARIO_DIR;
@@ -40,10 +42,6 @@ std::string Dir() {
 }
 std::string In(const std::string& name) { return Dir() + "/" + name; }
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
-}
 void WriteAll(const std::string& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
 }

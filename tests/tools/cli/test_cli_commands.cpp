@@ -13,17 +13,14 @@
 namespace fusecal {
 namespace {
 
+using testing_utils::ReadAll;
 using testing_utils::RunCommand;
+using testing_utils::StartInBackground;
 const std::string kFusecal = FUSECAL_BIN;
 const std::string kScenarios = SCENARIO_DIR;
 
 std::string Temp(const std::string& name) {
   return testing::TempDir() + "fusecal_cli_" + std::to_string(getpid()) + "_" + name;
-}
-
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
 #ifdef FUSECAL_WITH_DDS

@@ -20,7 +20,9 @@
 namespace fusecal {
 namespace {
 
+using testing_utils::ReadAll;
 using testing_utils::RunCommand;
+using testing_utils::StartInBackground;
 const std::string kFusecal = FUSECAL_BIN;
 const std::string kScenarios = SCENARIO_DIR;
 // Ports of their own, so that nothing else on the machine talks into the tests.
@@ -29,22 +31,6 @@ const std::string kPlayerBus = "udpm://239.255.76.67:7698?ttl=0&recv_buf_size=67
 
 std::string Temp(const std::string& name) {
   return testing::TempDir() + "fusecal_lcm_tools_" + std::to_string(getpid()) + "_" + name;
-}
-
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
-}
-
-// Starts `command` (exec'd by sh, so that the pid is the program's own) with its output in `output_file`.
-pid_t Start(const std::string& command, const std::string& output_file) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const std::string line = "exec " + command + " > " + output_file + " 2>&1";
-    execl("/bin/sh", "sh", "-c", line.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return pid;
 }
 
 // Polls `done` every 100 ms for up to `seconds`.
@@ -93,7 +79,7 @@ std::string LcmTools::log_;
 
 TEST_F(LcmTools, AnLcmLoggerRecordingOfARunReplaysWithCalibrateToTheRunsAnswer) {
   const std::string recording = Temp("recorded.lcmlog"), run_out = Temp("run"), replay_out = Temp("replay");
-  const pid_t logger = Start("lcm-logger -f --lcm-url='" + kLoggerBus + "' " + recording, Temp("logger.txt"));
+  const pid_t logger = StartInBackground("lcm-logger -f --lcm-url='" + kLoggerBus + "' " + recording, Temp("logger.txt"));
   ASSERT_TRUE(WaitFor(5, [&] { return access(recording.c_str(), F_OK) == 0; })) << ReadAll(Temp("logger.txt"));
   const auto run = RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus '" + kLoggerBus + "' --out " +
                               run_out + " 2>&1");
@@ -118,7 +104,7 @@ TEST_F(LcmTools, AnLcmLoggerRecordingOfARunReplaysWithCalibrateToTheRunsAnswer) 
 TEST_F(LcmTools, LcmLogplayerFeedsARunWithoutALogThatCalibratesIt) {
   const std::string run_out = Temp("live"), run_text = Temp("live.txt");
   const int stations = ChannelCounts(log_).at(channels::kStation);
-  const pid_t run = Start(kFusecal + " run --bus '" + kPlayerBus + "' --out " + run_out, run_text);
+  const pid_t run = StartInBackground(kFusecal + " run --bus '" + kPlayerBus + "' --out " + run_out, run_text);
   ASSERT_TRUE(WaitFor(60, [&] { return ReadAll(run_text).find("listening to live sensors") != std::string::npos; }))
       << ReadAll(run_text);
   // The stages are up once they beat: give them a moment to subscribe before the first station.

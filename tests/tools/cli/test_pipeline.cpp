@@ -20,7 +20,9 @@
 namespace fusecal {
 namespace {
 
+using testing_utils::ReadAll;
 using testing_utils::RunCommand;
+using testing_utils::StartInBackground;
 const std::string kFusecal = FUSECAL_BIN;
 const std::string kScenarios = SCENARIO_DIR;
 // A port of its own, so that nothing else on the machine talks into the test.
@@ -28,22 +30,6 @@ const std::string kBus = "udpm://239.255.76.67:7683?ttl=0&recv_buf_size=67108864
 
 std::string Temp(const std::string& name) {
   return testing::TempDir() + "fusecal_e2e_" + std::to_string(getpid()) + "_" + name;
-}
-
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), {});
-}
-
-// Runs a shell command in the background, its output into `output_file`.
-pid_t StartInBackground(const std::string& command, const std::string& output_file) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const std::string redirected = command + " > " + output_file + " 2>&1";
-    execl("/bin/sh", "sh", "-c", redirected.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return pid;
 }
 
 class Pipeline : public testing::Test {
