@@ -13,6 +13,7 @@ namespace fusecal {
 struct LcmBus::Slot {
   LcmBus* bus = nullptr;
   int id = 0;
+  ChannelPattern pattern;
   RawHandler handler;
   lcm_subscription_t* subscription = nullptr;
 };
@@ -94,12 +95,10 @@ void LcmBus::PublishRaw(const std::string& channel, const void* data, size_t siz
 }
 
 Subscription LcmBus::SubscribeRaw(const std::string& channel, RawHandler handler) {
-  ChannelPattern(channel, "LCM", std::regex::extended);  // LCM's grammar; a pattern it cannot read is a BusError
-  auto slot = std::make_unique<Slot>();
-  slot->bus = this;
-  slot->id = next_slot_id_++;
-  slot->handler = std::move(handler);
-  slot->subscription = lcm_subscribe(lcm_, channel.c_str(), &OnLcmMessage, slot.get());
+  // A pattern is matched here (RE2), never by LCM's own regex engine: LCM hears every channel for it.
+  auto slot = std::make_unique<Slot>(Slot{this, next_slot_id_++, ChannelPattern(channel, "LCM subscribe"), std::move(handler)});
+  const std::string lcm_channel = slot->pattern.plain() ? channel : ".*";
+  slot->subscription = lcm_subscribe(lcm_, lcm_channel.c_str(), &OnLcmMessage, slot.get());
   if (!slot->subscription) throw BusError("LCM subscribe failed for channel " + channel);
   lcm_subscription_set_queue_capacity(slot->subscription, kQueueCapacity);
   const int id = slot->id;
@@ -117,6 +116,7 @@ Subscription LcmBus::SubscribeRaw(const std::string& channel, RawHandler handler
 }
 
 void LcmBus::Deliver(Slot& slot, const char* channel, const uint8_t* data, size_t size, int64_t recv_utime) {
+  if (!slot.pattern.plain() && !slot.pattern.Matches(channel)) return;
   ++handled_;
   // Every handler gets the message even when another one failed on it (in one process, a stage that
   // cannot use a station must not keep it from the others); the first error surfaces from Handle().

@@ -458,7 +458,7 @@ void DdsBus::PublishRaw(const std::string& channel, const void* data, size_t siz
 
 Subscription DdsBus::SubscribeRaw(const std::string& channel, RawHandler handler) {
   Impl& d = *impl_;
-  auto sub = std::make_shared<Impl::Sub>(Impl::Sub{ChannelPattern(channel, "DDS"), std::move(handler)});
+  auto sub = std::make_shared<Impl::Sub>(Impl::Sub{ChannelPattern(channel, "DDS subscribe"), std::move(handler)});
   {
     std::lock_guard<std::mutex> lock(d.mutex);
     d.subs.push_back(sub);

@@ -338,7 +338,7 @@ void IoxBus::PublishRaw(const std::string& channel, const void* data, size_t siz
 
 Subscription IoxBus::SubscribeRaw(const std::string& channel, RawHandler handler) {
   Impl& d = *impl_;
-  auto sub = std::make_shared<Impl::Sub>(Impl::Sub{ChannelPattern(channel, "iceoryx"), std::move(handler)});
+  auto sub = std::make_shared<Impl::Sub>(Impl::Sub{ChannelPattern(channel, "iceoryx subscribe"), std::move(handler)});
   std::vector<std::string> published;  // this bus's own channels (a pattern may want them)
   if (!sub->channel.plain()) {
     std::lock_guard<std::mutex> lock(d.publish_mutex);  // (taken before `mutex`, as in PublishRaw)

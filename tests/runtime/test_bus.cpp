@@ -7,6 +7,7 @@
 #include "fusecal/image_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
+#include "runtime/channel_pattern.hpp"
 #include "formats/conversions.hpp"
 #include "support/sample_messages.hpp"
 
@@ -56,6 +57,31 @@ TEST(Channels, TheTableSaysWhichChannelsAreBulkAndWhichAreLarge) {
   EXPECT_EQ(TraitsOfChannel("MY_OWN").kind, ChannelKind::kState);
   EXPECT_FALSE(IsPipelineChannel("MY_OWN"));
   EXPECT_EQ(std::size(kPipelineChannels), 10u);
+}
+
+// Subscription patterns are RE2's (runtime/channel_pattern.hpp): a backtracking trap against a long
+// channel name is matched in linear time, a nesting 2000 deep works, and a pattern over the length limit
+// or one that does not compile is a BusError naming it, not a crash.
+TEST(MemqBus, PatternsAreMatchedInLinearTimeAndBadOnesAreNamed) {
+  auto bus = MakeBus("memq://");
+  int trapped = 0, nested = 0;
+  auto trap = bus->SubscribeRaw("(a|aa)*c", [&](const RawMessage&) { ++trapped; });
+  auto deep = bus->SubscribeRaw(std::string(2000, '(') + "A" + std::string(2000, ')'),
+                                [&](const RawMessage&) { ++nested; });
+  bus->PublishRaw(std::string(20000, 'a'), "x", 1);
+  bus->PublishRaw("aac", "x", 1);
+  bus->PublishRaw("A", "x", 1);
+  bus->Handle(100);
+  EXPECT_EQ(trapped, 1);
+  EXPECT_EQ(nested, 1);
+  try {
+    bus->SubscribeRaw(std::string(ChannelPattern::kMaxPatternBytes + 1, '.'), [](const RawMessage&) {});
+    ADD_FAILURE() << "a pattern over the length limit was accepted";
+  } catch (const BusError& e) {
+    EXPECT_NE(std::string(e.what()).find("LCM subscribe: '....."), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("at most 4096"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(bus->SubscribeRaw("A(B", [](const RawMessage&) {}), BusError);
 }
 
 TEST(MemqBus, UnsubscribeStopsDelivery) {

@@ -98,5 +98,28 @@ TEST(LogCommand, GarbageAndTruncatedLogsFailClearly) {
   EXPECT_NE(result.output.find("truncated"), std::string::npos) << result.output;
 }
 
+// --channel is a user's pattern, matched by RE2: a nesting 2000 deep (which overflowed std::regex's stack)
+// works, one longer than the limit is refused by name, and a backtracking trap such as (S|ST)*... is
+// matched in linear time.
+TEST(LogCommand, ChannelPatternsThatCrashOrHangBacktrackingEnginesAreSafe) {
+  const std::string log = WriteSampleLog();
+  const auto dump = [&](const std::string& pattern) {
+    return RunCommand(std::string(FUSECAL_BIN) + " log dump " + log + " --channel '" + pattern + "' 2>&1");
+  };
+  const auto nested = dump(std::string(2000, '(') + "STATION" + std::string(2000, ')'));
+  EXPECT_EQ(nested.exit_code, 0) << nested.output.substr(0, 400);
+  EXPECT_NE(nested.output.find("\"channel\":\"STATION\""), std::string::npos) << nested.output.substr(0, 400);
+  const auto too_long = dump(std::string(5000, '(') + "STATION" + std::string(5000, ')'));
+  EXPECT_EQ(too_long.exit_code, 1);
+  EXPECT_NE(too_long.output.find("--channel: '((((("), std::string::npos) << too_long.output.substr(0, 400);
+  EXPECT_NE(too_long.output.find("at most 4096"), std::string::npos) << too_long.output.substr(0, 400);
+  const auto broken = dump("STA(TION");
+  EXPECT_EQ(broken.exit_code, 1);
+  EXPECT_NE(broken.output.find("not a valid regular expression: missing )"), std::string::npos) << broken.output;
+  const auto trap = dump("(S|ST)*(A|AT)*ION");
+  EXPECT_EQ(trap.exit_code, 0) << trap.output;
+  EXPECT_NE(trap.output.find("\"channel\":\"STATION\""), std::string::npos) << trap.output;
+}
+
 }  // namespace
 }  // namespace fusecal

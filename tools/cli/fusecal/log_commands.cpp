@@ -2,9 +2,9 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include <map>
-#include <regex>
 
 #include "commands.hpp"
+#include "runtime/channel_pattern.hpp"
 #include "runtime/lcm_log.hpp"
 #include "formats/message_json.hpp"
 
@@ -61,10 +61,10 @@ int LogInfo(const std::string& path) {
 }
 
 int LogDump(const std::string& path, const std::string& channel_pattern, bool full) {
+  const ChannelPattern pattern(channel_pattern.empty() ? ".*" : channel_pattern, "--channel");
   LogReader reader(path);
-  const std::regex pattern(channel_pattern.empty() ? ".*" : channel_pattern);
   while (auto event = reader.Next()) {
-    if (!std::regex_match(event->channel, pattern)) continue;
+    if (!pattern.Matches(event->channel)) continue;
     OrderedJson line{{"channel", event->channel}, {"utime", event->utime}};
     std::string error;
     auto decoded = DecodeToJson(event->data.data(), event->data.size(), full, &error);
