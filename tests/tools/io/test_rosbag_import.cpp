@@ -246,6 +246,30 @@ TEST(RosbagImport, CloudsOfAnyFieldLayoutDropPointsWithoutReturn) {
   EXPECT_THROW(RosCloudToPointCloud(truncated), std::runtime_error);
 }
 
+// Sizes and offsets are checked in 64 bits: an offset near 2^32 does not wrap round to a small sum that
+// passes, and width x height does not wrap round to 0.
+TEST(RosbagImport, OffsetsAndSizesNear32BitsAreRefusedNotWrapped) {
+  sensor_msgs::PointCloud2 msg;
+  msg.height = 1;
+  msg.width = 1;
+  msg.fields = {Field("x", 0, 7), Field("y", 4, 7), Field("z", 4294967294u, 7)};
+  msg.point_step = 12;
+  msg.row_step = 12;
+  msg.data.assign(12, 0);
+  try {
+    RosCloudToPointCloud(msg);
+    FAIL() << "a field at offset 2^32 - 2 was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("'z' lies beyond point_step"), std::string::npos) << e.what();
+  }
+  sensor_msgs::PointCloud2 wraps = msg;
+  wraps.fields[2].offset = 8;
+  wraps.width = 65536;
+  wraps.height = 65536;  // width x height is 2^32: 0 in 32 bits
+  wraps.point_step = 0;
+  EXPECT_THROW(RosCloudToPointCloud(wraps), std::runtime_error);
+}
+
 TEST(RosbagImport, CameraInfoPlumbBobAndEquidistant) {
   const CameraParams pinhole = RosCameraInfoToParams(PlumbBob(640, 480));
   EXPECT_EQ(pinhole.model, "pinhole");

@@ -67,7 +67,8 @@ const sensor_msgs::PointField* FindField(const sensor_msgs::PointCloud2& msg,
         if (field.datatype < 1 || field.datatype > 8)
           throw std::runtime_error("PointCloud2 field '" + field.name + "' has unknown datatype " +
                                    std::to_string(field.datatype));
-        if (field.offset + FieldSize(field.datatype) > msg.point_step)
+        // 64-bit: an offset near 2^32 must not wrap round to a small sum.
+        if (static_cast<uint64_t>(field.offset) + FieldSize(field.datatype) > msg.point_step)
           throw std::runtime_error("PointCloud2 field '" + field.name + "' lies beyond point_step " +
                                    std::to_string(msg.point_step));
         return &field;
@@ -76,7 +77,8 @@ const sensor_msgs::PointField* FindField(const sensor_msgs::PointCloud2& msg,
 }
 
 void CheckCloudSize(const sensor_msgs::PointCloud2& msg) {
-  if (msg.point_step == 0 && msg.width * msg.height > 0) throw std::runtime_error("PointCloud2 has point_step 0");
+  if (msg.point_step == 0 && static_cast<uint64_t>(msg.width) * msg.height > 0)
+    throw std::runtime_error("PointCloud2 has point_step 0");
   if (static_cast<uint64_t>(msg.width) * msg.point_step > msg.row_step)
     throw std::runtime_error("PointCloud2 row_step " + std::to_string(msg.row_step) + " is shorter than width " +
                              std::to_string(msg.width) + " x point_step " + std::to_string(msg.point_step));
