@@ -1,5 +1,7 @@
 #include "runtime/lcm_log.hpp"
 
+#include <sys/stat.h>
+
 #include <cerrno>
 #include <cstring>
 
@@ -108,6 +110,20 @@ std::optional<LogEvent> LogReader::Next() {
     return event;
   }
   return std::nullopt;
+}
+
+void CheckReplaceableOutput(const std::string& path) {
+  struct stat info {};
+  if (lstat(path.c_str(), &info) != 0) return;  // a new path
+  if (S_ISREG(info.st_mode)) return;
+  const char* what = S_ISDIR(info.st_mode)   ? "a directory"
+                     : S_ISCHR(info.st_mode) ? "a character device"
+                     : S_ISBLK(info.st_mode) ? "a block device"
+                     : S_ISFIFO(info.st_mode) ? "a pipe"
+                     : S_ISSOCK(info.st_mode) ? "a socket"
+                     : S_ISLNK(info.st_mode) ? "a symbolic link"
+                                             : "not a regular file";
+  throw LogError(path + " is " + what + ": the output must be a new path or a regular file, which is replaced");
 }
 
 LogWriter::LogWriter(const std::string& path) : path_(path) {

@@ -52,6 +52,11 @@ class LogReader {
   std::vector<std::string> problems_;
 };
 
+// A log written as PATH.partial and renamed onto PATH when complete may only replace a regular file (or
+// take a new path): throws LogError naming PATH when it is a directory, a device (e.g. /dev/full), a
+// socket or a pipe. Call it before writing and again before the rename.
+void CheckReplaceableOutput(const std::string& path);
+
 class LogWriter {
  public:
   // Throws LogError when the file cannot be created.

@@ -3,6 +3,7 @@
 // between 1 and 125 (not a crash: a signal shows as 128+N through the shell, a hang as timeout's 124),
 // and never report "converged". The inputs are written by the test itself.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <array>
@@ -252,6 +253,37 @@ std::vector<BadCase> Cases() {
   return c;
 }
 
+// Numbers at the edge of the command line, and outputs that must not be replaced.
+std::vector<BadCase> EdgeCases() {
+  std::vector<BadCase> c;
+  c.push_back({"RunSpeedNan", [] {}, "run --log " + GoodLog() + " --live --speed nan --out " + In("nan"), "--speed"});
+  c.push_back({"RunStagesEmpty", [] {}, "run --log " + GoodLog() + " --stages '' --out " + In("empty"), "--stages"});
+  const std::string sim = "simulate --scenario " + kScenarios + "/tiny-equirect.yaml --stations-only --out ";
+  c.push_back({"SimulateOntoADirectory", [] { mkdir(In("a-dir").c_str(), 0755); }, sim + In("a-dir"),
+               "a-dir is a directory"});
+  const std::string good_result = "T_camera_lidar: [1, 0, 0, 0.1, 0, 1, 0, 0.2, 0, 0, 1, 0.3, 0, 0, 0, 1]\n";
+  const auto evaluate = "evaluate --result " + In("good-result.yaml") + " --truth " + In("truth.yaml");
+  const std::pair<const char*, const char*> truths[] = {
+      {"EvaluateAgainstATruthThatIsNotARotation", "[2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]"},
+      {"EvaluateAgainstAZeroTruth", "[0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]"},
+      {"EvaluateAgainstANanTruth", "[.nan, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]"}};
+  for (const auto& [name, matrix] : truths)
+    c.push_back({name, [=, m = std::string(matrix)] {
+                   WriteAll(In("good-result.yaml"), good_result);
+                   WriteAll(In("truth.yaml"), "T_camera_lidar: " + m + "\n");
+                 },
+                 evaluate, "truth.yaml"});
+  c.push_back({"SimulateOntoAPipe", [] { mkfifo(In("a-pipe").c_str(), 0644); }, sim + In("a-pipe"),
+               "a-pipe is a pipe"});
+  return c;
+}
+
+std::vector<BadCase> AllCases() {
+  std::vector<BadCase> all = Cases();
+  for (auto& c : EdgeCases()) all.push_back(std::move(c));
+  return all;
+}
+
 class BadInput : public testing::TestWithParam<BadCase> {};
 
 TEST_P(BadInput, ClearErrorNamingTheInputAndNoCrashNoConvergence) {
@@ -267,7 +299,7 @@ TEST_P(BadInput, ClearErrorNamingTheInputAndNoCrashNoConvergence) {
   EXPECT_EQ(r.output.find("status: converged"), std::string::npos) << r.output;
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BadInput, testing::ValuesIn(Cases()),
+INSTANTIATE_TEST_SUITE_P(Cases, BadInput, testing::ValuesIn(AllCases()),
                          [](const testing::TestParamInfo<BadCase>& info) { return info.param.name; });
 
 // Identical scans are not an error: the motion between them is the identity.

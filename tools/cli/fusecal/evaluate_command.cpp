@@ -4,11 +4,24 @@
 
 #include "commands.hpp"
 #include "foundation/extrinsic_error.hpp"
+#include "foundation/se3.hpp"
 #include "formats/ground_truth.hpp"
 #include "formats/message_json.hpp"
 #include "formats/result_file.hpp"
 
 namespace fusecal {
+
+namespace {
+
+// A result or truth that is NaN, all zeros or not a rotation gives no error worth printing.
+Isometry3 CheckedTransform(const Isometry3& T, const std::string& what, const std::string& path) {
+  if (!IsValidTransform(T))
+    throw std::runtime_error(what + " " + path + ": T_camera_lidar is not a rigid transform (non-finite, or its "
+                             "rotation is not orthonormal with determinant 1)");
+  return T;
+}
+
+}  // namespace
 
 void AddEvaluateCommand(CLI::App& app, int* exit_code) {
   auto* evaluate = app.add_subcommand("evaluate", "error of a result file against the ground truth");
@@ -18,15 +31,16 @@ void AddEvaluateCommand(CLI::App& app, int* exit_code) {
   evaluate->callback([exit_code] {
     try {
       const CalibrationResult result = ReadResultFile(result_path);
-      const ExtrinsicError e = CompareExtrinsics(result.T_camera_lidar, ReadReferenceExtrinsic(truth_path));
+      const Isometry3 estimate = CheckedTransform(result.T_camera_lidar, "--result", result_path);
+      const Isometry3 truth = CheckedTransform(ReadReferenceExtrinsic(truth_path), "--truth", truth_path);
+      const ExtrinsicError e = CompareExtrinsics(estimate, truth);
       OrderedJson line{{"rot_err_deg", e.rotation_deg},
                        {"trans_err_m", e.translation_m},
                        {"trans_err_xyz_m", {e.translation_xyz_m.x(), e.translation_xyz_m.y(),
                                             e.translation_xyz_m.z()}}};
       if (result.unobservable_direction) {
         // Only the part the motions observed (docs/design.md section 1, step 6) can be compared.
-        const ObservableError o = CompareObservablePart(result.T_camera_lidar, ReadReferenceExtrinsic(truth_path),
-                                                        *result.unobservable_direction);
+        const ObservableError o = CompareObservablePart(estimate, truth, *result.unobservable_direction);
         line["unobservable_direction"] = {result.unobservable_direction->x(), result.unobservable_direction->y(),
                                           result.unobservable_direction->z()};
         line["observable_direction_err_deg"] = o.direction_deg;

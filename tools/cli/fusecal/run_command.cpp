@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <csignal>
 #include <iomanip>
 #include <iostream>
@@ -30,12 +31,20 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
                 "play the log at recorded time (x speed) without waiting for the stages, as sensors do; "
                 "writes latency.csv");
   cmd->add_option("--bus", options.bus_url, "bus URL (default: the config's)");
-  cmd->add_option("--stages", stages,
+  auto* stages_option = cmd->add_option("--stages", stages,
                   "start only these stages, e.g. fusion_odometry,handeye; the others run on other hosts on the "
                   "same bus (without --log: ends when the host playing the log is done)");
   cmd->add_option("--out", options.out_dir, "output folder")->required();
-  cmd->callback([exit_code] {
+  cmd->callback([exit_code, stages_option] {
+    if (!std::isfinite(options.speed)) {
+      std::cerr << "fusecal run: --speed must be a finite number >= 0 (0: as fast as the stages go), not "
+                << options.speed << "\n";
+      *exit_code = 2;
+      return;
+    }
     try {
+      if (stages_option->count() > 0 && stages.empty())
+        throw std::invalid_argument("the list is empty; name the stages to start here, e.g. fusion_odometry,handeye");
       if (!stages.empty()) options.stages = ParseStageList(stages);
     } catch (const std::invalid_argument& e) {
       std::cerr << "fusecal run: --stages: " << e.what() << "\n";

@@ -61,6 +61,7 @@ int NearestFrame(const std::vector<int64_t>& times, int64_t start, int64_t from,
 
 void Simulate(const std::string& scenario_path, const std::string& out, std::optional<uint64_t> seed,
               bool stations_only, const std::string& encoding) {
+  CheckReplaceableOutput(out);
   sim::Scenario scenario = sim::LoadScenario(scenario_path);
   if (seed) scenario.seed = *seed;
   const auto start = std::chrono::steady_clock::now();
@@ -100,6 +101,7 @@ void Simulate(const std::string& scenario_path, const std::string& out, std::opt
     }
   }
   writer.Close();
+  CheckReplaceableOutput(out);
   std::filesystem::rename(partial, out);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "wrote " << out << ": " << (stations_only ? "stations " : "frames ") << written << ", "

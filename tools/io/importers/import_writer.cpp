@@ -14,8 +14,11 @@ namespace fusecal {
 
 namespace fs = std::filesystem;
 
+// The output is checked before anything is written, and again before the rename.
 ImportWriter::ImportWriter(const std::string& path)
-    : path_(path), partial_(path + ".partial"), writer_(std::make_unique<LogWriter>(partial_)) {}
+    : path_((CheckReplaceableOutput(path), path)),
+      partial_(path + ".partial"),
+      writer_(std::make_unique<LogWriter>(partial_)) {}
 
 ImportWriter::~ImportWriter() {
   if (!committed_) {
@@ -86,6 +89,7 @@ void ImportWriter::WriteStation(int id, int64_t utime, const cv::Mat& image, con
 
 void ImportWriter::Commit() {
   writer_->Close();
+  CheckReplaceableOutput(path_);
   fs::rename(partial_, path_);
   committed_ = true;
 }
