@@ -273,6 +273,12 @@ std::vector<BadCase> EdgeCases() {
                    WriteAll(In("truth.yaml"), "T_camera_lidar: " + m + "\n");
                  },
                  evaluate, "truth.yaml"});
+  c.push_back({"DoctorUnknownScheme", [] {}, "doctor --bus 'foo://x'", "unknown transport 'foo'"});
+  c.push_back({"DoctorNoScheme", [] {}, "doctor --bus nothing", "has no scheme"});
+  c.push_back({"DoctorTtlOutOfRange", [] {}, "doctor --bus 'udpm://239.255.76.67:7699?ttl=999'", "ttl=999"});
+  c.push_back({"DoctorNegativeReceiveBuffer", [] {}, "doctor --bus 'udpm://239.255.76.67:7699?ttl=0&recv_buf_size=-1'",
+               "recv_buf_size=-1"});
+  c.push_back({"DoctorSaysWhatItDidNotTest", [] {}, "doctor --bus 'file:///tmp/absent.lcmlog'", "not tested", false});
   c.push_back({"SimulateOntoAPipe", [] { mkfifo(In("a-pipe").c_str(), 0644); }, sim + In("a-pipe"),
                "a-pipe is a pipe"});
   return c;

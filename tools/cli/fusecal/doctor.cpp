@@ -204,11 +204,39 @@ DoctorFinding CheckIoxRoundTrip(const std::string& url, std::unique_ptr<shm::Rou
   return f;
 }
 
-}  // namespace
+// The URL itself. A scheme MakeBus does not know, or a URL without one, is a problem (nothing else is
+// checked). file:// and tcpq:// have no path this doctor can test: it says so instead of "ready".
+DoctorFinding CheckUrl(const std::string& url) {
+  DoctorFinding f;
+  f.check = "bus URL";
+  const std::string scheme = url.substr(0, url.find("://"));
+  if (url.find("://") != std::string::npos &&
+      (scheme == "udpm" || scheme == "memq" || scheme == "dds" || scheme == "iox")) {
+    f.detail = scheme + "://, checked below";
+    return f;
+  }
+  f.ok = false;
+  if (url.find("://") != std::string::npos && (scheme == "file" || scheme == "tcpq")) {
+    f.detail = "not tested: the doctor checks udpm://, memq://, dds:// and iox:// buses, not " + scheme + "://";
+    return f;
+  }
+  f.loses_messages = true;
+  try {
+    MakeBus(url);
+    f.detail = "'" + url + "' is not a bus URL";
+  } catch (const std::exception& e) {
+    f.detail = e.what();
+  }
+  f.fix = "give one of udpm://GROUP:PORT?ttl=N&recv_buf_size=B, dds://?domain=N, iox://, memq://";
+  return f;
+}
 
+}  // namespace
 
 std::vector<DoctorFinding> RunDoctor(const std::string& bus_url, bool apply_fixes) {
   const std::string url = bus_url.empty() ? DefaultBusUrl() : bus_url;
+  const DoctorFinding url_finding = CheckUrl(url);
+  if (!url_finding.ok) return {url_finding};
   const bool multicast = url.rfind("udpm://", 0) == 0;
   // iox://: `fusecal run` keeps its coordinator on LCM multicast on this host, bridged to the stages.
   const std::string multicast_url = IsIoxUrl(url) ? kIoxCoordinatorUrl : url;

@@ -16,15 +16,18 @@ void AddDoctorCommand(CLI::App& app, int* exit_code) {
   doctor->add_flag("--fix", fix, "run the fixes (needs root), then check again");
   doctor->callback([exit_code] {
     const auto findings = RunDoctor(bus_url, fix);
-    bool loses = false;
+    bool loses = false, warned = false;
     std::cout << "bus: " << (bus_url.empty() ? DefaultBusUrl() : bus_url) << "\n";
     for (const auto& f : findings) {
       std::cout << (f.ok ? "  ok       " : (f.loses_messages ? "  PROBLEM  " : "  warning  ")) << f.check
                 << ": " << f.detail << "\n";
       if (!f.ok && !f.fix.empty()) std::cout << "           fix: " << f.fix << "\n";
       loses = loses || (!f.ok && f.loses_messages);
+      warned = warned || !f.ok;
     }
-    std::cout << (loses ? "messages would be lost: fix the problems above\n" : "the bus is ready\n");
+    std::cout << (loses    ? "messages would be lost: fix the problems above\n"
+                  : warned ? "no problem found in what was checked; see the warnings above\n"
+                           : "the bus is ready\n");
     *exit_code = loses ? 1 : 0;
   });
 }
