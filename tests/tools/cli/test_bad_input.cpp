@@ -279,6 +279,10 @@ std::vector<BadCase> EdgeCases() {
   c.push_back({"DoctorNegativeReceiveBuffer", [] {}, "doctor --bus 'udpm://239.255.76.67:7699?ttl=0&recv_buf_size=-1'",
                "recv_buf_size=-1"});
   c.push_back({"DoctorSaysWhatItDidNotTest", [] {}, "doctor --bus 'file:///tmp/absent.lcmlog'", "not tested", false});
+  for (const char* format : {"json", "kitti", "ros-static-tf"})
+    c.push_back({std::string("ExportToAFullDisk_") + (format[0] == 'r' ? "ros_static_tf" : format),
+                 [=] { WriteAll(In("good-result.yaml"), good_result); },
+                 "export " + In("good-result.yaml") + " --format " + format + " --out /dev/full", "/dev/full"});
   c.push_back({"SimulateOntoAPipe", [] { mkfifo(In("a-pipe").c_str(), 0644); }, sim + In("a-pipe"),
                "a-pipe is a pipe"});
   return c;
