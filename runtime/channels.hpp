@@ -83,17 +83,19 @@ inline constexpr ChannelTraits kPipelineChannels[] = {
     TraitsOf(typed_channels::kFusedMotions), TraitsOf(typed_channels::kExtrinsic),
     TraitsOf(typed_channels::kStatus),       TraitsOf(typed_channels::kGroundTruth)};
 
-// The traits of a pipeline channel; a name the pipeline does not use (a user's own) is state, small.
-inline ChannelTraits TraitsOfChannel(const std::string& name) {
+// The pipeline channel called `name`, or nullptr.
+inline const ChannelTraits* FindPipelineChannel(const std::string& name) {
   for (const auto& channel : kPipelineChannels)
-    if (name == channel.name) return channel;
-  return ChannelTraits{};
+    if (name == channel.name) return &channel;
+  return nullptr;
 }
 
-inline bool IsPipelineChannel(const std::string& name) {
-  for (const auto& channel : kPipelineChannels)
-    if (name == channel.name) return true;
-  return false;
+// The traits of a pipeline channel; a name the pipeline does not use (a user's own) is state, small.
+inline ChannelTraits TraitsOfChannel(const std::string& name) {
+  const ChannelTraits* channel = FindPipelineChannel(name);
+  return channel ? *channel : ChannelTraits{};
 }
+
+inline bool IsPipelineChannel(const std::string& name) { return FindPipelineChannel(name) != nullptr; }
 
 }  // namespace fusecal

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <sstream>
 
+#include "runtime/bus_url.hpp"
 #include "runtime/channel_pattern.hpp"
 
 namespace fusecal {
@@ -29,22 +30,6 @@ void OnLcmMessage(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
   slot->bus->Deliver(*slot, channel, static_cast<const uint8_t*>(rbuf->data), rbuf->data_size, rbuf->recv_utime);
 }
 
-// A whole number in [low, high], or BusError naming the parameter.
-long long WholeNumber(const std::string& url, const std::string& key, const std::string& text, long long low,
-                      long long high) {
-  size_t used = 0;
-  long long value = 0;
-  try {
-    value = std::stoll(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (text.empty() || used != text.size() || value < low || value > high)
-    throw BusError("bus URL '" + url + "': " + key + "=" + text + " is not a whole number in [" +
-                   std::to_string(low) + ", " + std::to_string(high) + "]");
-  return value;
-}
-
 }  // namespace
 
 int64_t NowUtime() {
@@ -62,9 +47,9 @@ void CheckUdpmUrl(const std::string& url) {
     const std::string key = item.substr(0, eq);
     const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
     if (key == "ttl")
-      WholeNumber(url, key, value, 0, 255);
+      UrlInteger(url, key, value, 0, 255);
     else if (key == "recv_buf_size")
-      WholeNumber(url, key, value, 1, (1ll << 31) - 1);
+      UrlInteger(url, key, value, 1, (1ll << 31) - 1);
     else if (key == "reliable" || key == "loss" || key == "jitter_ms" || key == "fragment_kb" ||
              key == "history_mb" || key == "give_up_s" || key == "loss_seed")
       throw BusError("bus URL '" + url + "': udpm:// carries plain LCM and has no " + key +
@@ -116,12 +101,12 @@ Subscription LcmBus::SubscribeRaw(const std::string& channel, RawHandler handler
 }
 
 void LcmBus::Deliver(Slot& slot, const char* channel, const uint8_t* data, size_t size, int64_t recv_utime) {
-  if (!slot.pattern.plain() && !slot.pattern.Matches(channel)) return;
+  const std::string name = channel;
+  if (!slot.pattern.Matches(name)) return;  // a pattern's slot hears every channel (SubscribeRaw)
   ++handled_;
   // Every handler gets the message even when another one failed on it (in one process, a stage that
   // cannot use a station must not keep it from the others); the first error surfaces from Handle().
   try {
-    const std::string name = channel;
     slot.handler(RawMessage{name, data, size, recv_utime});
   } catch (...) {
     if (!pending_error_) pending_error_ = std::current_exception();

@@ -17,6 +17,7 @@
 #include "dds/dds.h"
 #include "fusecal_bytes.h"
 #include "runtime/channel_pattern.hpp"
+#include "runtime/bus_url.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/dds/dds_envelope.hpp"
 #include "runtime/shared_memory.hpp"
@@ -73,17 +74,6 @@ struct DomainEntry {
 };
 std::mutex g_domains_mutex;
 std::map<uint32_t, DomainEntry> g_domains;
-
-int ParseInt(const std::string& url, const std::string& key, const std::string& value, int lo, int hi) {
-  try {
-    size_t used = 0;
-    const long v = std::stol(value, &used);
-    if (used == value.size() && v >= lo && v <= hi) return static_cast<int>(v);
-  } catch (const std::exception&) {
-  }
-  throw BusError("bus URL '" + url + "': " + key + "=" + value + " is not an integer in [" +
-                 std::to_string(lo) + ", " + std::to_string(hi) + "]");
-}
 
 }  // namespace
 
@@ -323,15 +313,15 @@ struct DdsBus::Impl {
         const std::string key = item.substr(0, eq);
         const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
         if (key == "domain")
-          domain_id = static_cast<uint32_t>(ParseInt(text, key, value, 0, 232));
+          domain_id = static_cast<uint32_t>(UrlInteger(text, key, value, 0, 232));
         else if (key == "shm")
-          shm_requested = ParseInt(text, key, value, 0, 1) == 1;
+          shm_requested = UrlInteger(text, key, value, 0, 1) == 1;
         else if (key == "depth")
-          depth = ParseInt(text, key, value, 1, 256);  // iceoryx caps a subscriber queue at 256
+          depth = UrlInteger(text, key, value, 1, 256);  // iceoryx caps a subscriber queue at 256
         else if (key == "bulk_depth")
-          bulk_depth = ParseInt(text, key, value, 1, 256);
+          bulk_depth = UrlInteger(text, key, value, 1, 256);
         else if (key == "shm_max")
-          shm_max = ParseInt(text, key, value, 1024, 2147483647);
+          shm_max = UrlInteger(text, key, value, 1024, 2147483647);
         else
           throw BusError("bus URL '" + text + "': unknown parameter '" + key +
                          "' (DDS takes domain=, shm=, shm_max=, depth= and bulk_depth=)");

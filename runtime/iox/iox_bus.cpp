@@ -17,6 +17,7 @@
 #include "runtime/iox/iceoryx_c.hpp"
 #include "iceoryx_posh/mepoo/chunk_header.hpp"
 #include "runtime/channel_pattern.hpp"
+#include "runtime/bus_url.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/iox/iox_chunk.hpp"
 #include "runtime/iox/iox_runtime.hpp"
@@ -38,17 +39,6 @@ constexpr auto kDiscoveryInterval = std::chrono::milliseconds(100);
 constexpr size_t kDiscoveryCapacity = 256;
 
 std::atomic<uint64_t> g_bus_count{0};
-
-long ParseInt(const std::string& url, const std::string& key, const std::string& value, long lo, long hi) {
-  try {
-    size_t used = 0;
-    const long v = std::stol(value, &used);
-    if (used == value.size() && v >= lo && v <= hi) return v;
-  } catch (const std::exception&) {
-  }
-  throw BusError("bus URL '" + url + "': " + key + "=" + value + " is not an integer in [" + std::to_string(lo) +
-                 ", " + std::to_string(hi) + "]");
-}
 
 // The payload bytes of a chunk a subscriber took (from iceoryx's chunk header).
 size_t PayloadBytes(const void* payload) {
@@ -148,13 +138,13 @@ struct IoxBus::Impl {
       const std::string key = item.substr(0, eq);
       const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
       if (key == "depth")
-        depth = static_cast<int>(ParseInt(text, key, value, 1, kMaxQueue));
+        depth = static_cast<int>(UrlInteger(text, key, value, 1, kMaxQueue));
       else if (key == "bulk_depth")
-        bulk_depth = static_cast<int>(ParseInt(text, key, value, 1, kMaxQueue));
+        bulk_depth = static_cast<int>(UrlInteger(text, key, value, 1, kMaxQueue));
       else if (key == "max")
-        max_message = ParseInt(text, key, value, 1024, 0xffffffffL - static_cast<long>(iox::kChunkHeaderBytes));
+        max_message = UrlInteger(text, key, value, 1024, 0xffffffffL - static_cast<long>(iox::kChunkHeaderBytes));
       else if (key == "self")
-        deliver_own = ParseInt(text, key, value, 0, 1) == 1;
+        deliver_own = UrlInteger(text, key, value, 0, 1) == 1;
       else
         throw BusError("bus URL '" + text + "': unknown parameter '" + key +
                        "' (iceoryx takes depth=, bulk_depth=, max= and self=)");

@@ -179,7 +179,7 @@ TEST(UdpmBus, ParametersOfAReliableLayerAndOutOfRangeOptionsAreRefusedByName) {
   const std::pair<const char*, const char*> cases[] = {
       {"udpm://239.255.76.67:7694?ttl=0&reliable=1", "use dds://"},
       {"udpm://239.255.76.67:7694?ttl=0&loss=0.05", "no loss="},
-      {"udpm://239.255.76.67:7694?ttl=999", "ttl=999 is not a whole number in [0, 255]"},
+      {"udpm://239.255.76.67:7694?ttl=999", "ttl=999 is not an integer in [0, 255]"},
       {"udpm://239.255.76.67:7694?ttl=0&recv_buf_size=-1", "recv_buf_size=-1"},
   };
   for (const auto& [url, expected] : cases) {

@@ -43,9 +43,7 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
       return;
     }
     try {
-      if (stages_option->count() > 0 && stages.empty())
-        throw std::invalid_argument("the list is empty; name the stages to start here, e.g. fusion_odometry,handeye");
-      if (!stages.empty()) options.stages = ParseStageList(stages);
+      if (stages_option->count() > 0) options.stages = ParseStageList(stages);  // '' is "no stage listed"
     } catch (const std::invalid_argument& e) {
       std::cerr << "fusecal run: --stages: " << e.what() << "\n";
       *exit_code = 2;
