@@ -1,5 +1,7 @@
 #include "config_reader.hpp"
 
+#include "strict_yaml.hpp"
+
 #include <algorithm>
 #include <sstream>
 
@@ -23,19 +25,17 @@ ConfigReader::ConfigReader(YAML::Node node, std::string source, std::string pref
 
 ConfigReader ConfigReader::FromFile(const std::string& path) {
   try {
-    return ConfigReader(YAML::LoadFile(path), path);
-  } catch (const YAML::BadFile&) {
-    throw ConfigError(path + ": cannot open file");
-  } catch (const YAML::ParserException& e) {
-    throw ConfigError(path + ": YAML syntax error: " + e.what());
+    return ConfigReader(LoadStrictYamlFile(path), path);
+  } catch (const YamlError& e) {
+    throw ConfigError(e.what());
   }
 }
 
 ConfigReader ConfigReader::FromString(const std::string& text) {
   try {
-    return ConfigReader(YAML::Load(text), "<string>");
-  } catch (const YAML::ParserException& e) {
-    throw ConfigError(std::string("<string>: YAML syntax error: ") + e.what());
+    return ConfigReader(LoadStrictYaml(text, "<string>"), "<string>");
+  } catch (const YamlError& e) {
+    throw ConfigError(e.what());
   }
 }
 

@@ -1,7 +1,7 @@
 // Config loading with validation: every key is read through a ConfigReader, which knows the path of the
 // node it reads ("lidar.beams"), rejects unknown keys and invalid values with a message naming the key.
 //
-//   ConfigReader r(YAML::LoadFile(path), path);
+//   ConfigReader r = ConfigReader::FromFile(path);   // strict YAML: no repeated key, no open quote
 //   r.Get("max_range_m", &settings.max_range_m, Positive());
 //   ConfigReader lidar = r.Child("lidar");   // optional section: empty reader if absent
 //   r.Finish();                              // throws ConfigError on keys nobody read

@@ -1,10 +1,13 @@
 #include "formats/extrinsic_formats.hpp"
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/core/eigen.hpp>
 #include <sstream>
 #include <stdexcept>
+
+#include "runtime/strict_yaml.hpp"
 
 namespace fusecal {
 
@@ -132,9 +135,22 @@ Isometry3 ParseExportedExtrinsic(const std::string& text, const std::string& for
     return Checked(R, Eigen::Vector3d(m[3], m[7], m[11]), format);
   }
   if (format == "opencv-yaml") {
-    cv::FileStorage fs(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+    // OpenCV's reader lets a repeated key pass (the first wins): check the text strictly first, with
+    // OpenCV's "%YAML:1.0" directive (not YAML 1.2 syntax) blanked out so that line numbers hold.
+    std::string yaml = text;
+    if (yaml.rfind("%YAML:", 0) == 0) yaml.replace(0, std::min(yaml.find('\n'), yaml.size()), "");
+    try {
+      LoadStrictYaml(yaml, "opencv-yaml");
+    } catch (const YamlError& e) {
+      throw std::runtime_error(e.what());
+    }
     cv::Mat T;
-    fs["T_camera_lidar"] >> T;
+    try {
+      cv::FileStorage fs(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+      fs["T_camera_lidar"] >> T;
+    } catch (const cv::Exception& e) {
+      throw std::runtime_error("opencv-yaml: not readable by OpenCV's YAML reader (" + e.err + ")");
+    }
     if (T.rows != 4 || T.cols != 4) throw std::runtime_error("opencv-yaml: needs a 4x4 T_camera_lidar");
     Eigen::Matrix4d M;
     cv::cv2eigen(T, M);
