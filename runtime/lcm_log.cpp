@@ -153,8 +153,8 @@ void LogWriter::Write(const std::string& channel, int64_t utime, const void* dat
 
 void LogWriter::Close() {
   if (!file_) return;
-  const bool ok = std::fflush(file_) == 0;
-  std::fclose(file_);
+  const bool flushed = std::fflush(file_) == 0;
+  const bool ok = std::fclose(file_) == 0 && flushed;
   file_ = nullptr;
   if (!ok) throw LogError(path_ + ": could not flush the log (disk full?)");
 }

@@ -158,6 +158,7 @@ void RoudiProcess::Start(double timeout_s) {
   {
     std::ofstream config(config_path());
     config << RoudiConfigToml(plan_);
+    config.close();  // a full /tmp shows only at the flush
     if (!config) throw std::runtime_error("cannot write " + config_path());
   }
   // A RouDi that ended a moment ago can still hold its lock when the new one looks (measured once in a

@@ -6,6 +6,9 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "runtime/output_file.hpp"
+#include "runtime/strict_yaml.hpp"
+
 namespace fusecal {
 
 namespace {
@@ -73,19 +76,15 @@ std::string ResultToYaml(const CalibrationResult& result, const CalibrationResul
 
 void WriteResultFile(const std::string& path, const CalibrationResult& result,
                      const CalibrationResult* initial) {
-  std::ofstream file(path);
-  file << ResultToYaml(result, initial);
-  if (!file) throw std::runtime_error(path + ": cannot write the result file");
+  WriteFileChecked(path, ResultToYaml(result, initial));
 }
 
 CalibrationResult ReadResultFile(const std::string& path) {
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw std::runtime_error(path + ": cannot open the result file");
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(path + ": not valid YAML: " + e.what());
+    root = LoadStrictYamlFile(path);
+  } catch (const YamlError& e) {
+    throw std::runtime_error(std::string("result file ") + e.what());
   }
   const YAML::Node matrix = root.IsMap() ? root["T_camera_lidar"] : YAML::Node();
   if (!matrix || !matrix.IsSequence() || matrix.size() != 16)

@@ -1,12 +1,10 @@
 // `fusecal export RESULT.yaml --format kitti|ros-static-tf|json|opencv-yaml [--out FILE]`.
 #include <CLI/CLI.hpp>
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <iostream>
 
 #include "commands.hpp"
 #include "formats/extrinsic_formats.hpp"
+#include "runtime/output_file.hpp"
 
 namespace fusecal {
 
@@ -24,12 +22,7 @@ void AddExportCommand(CLI::App& app, int* exit_code) {
       if (out_path.empty()) {
         std::cout << text;
       } else {
-        // Checked after flush and close: a small text only meets a full disk there.
-        std::ofstream out(out_path);
-        out << text;
-        out.flush();
-        out.close();
-        if (out.fail()) throw std::runtime_error(out_path + ": cannot write (" + std::strerror(errno) + ")");
+        WriteFileChecked(out_path, text);
       }
       *exit_code = 0;
     } catch (const std::exception& e) {

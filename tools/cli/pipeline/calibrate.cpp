@@ -114,7 +114,7 @@ CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out
   report.span_s = first_utime < 0 ? 0.0 : (last_utime - first_utime) * 1e-6;
   const auto outputs_start = std::chrono::steady_clock::now();
   report.outputs = WriteCalibrationOutputs(session, out_dir);
-  report.outputs.files.push_back(WriteStageTable(out_dir, report.stage_counters, report.span_s));
+  AddOutputFile(&report.outputs, [&] { return WriteStageTable(out_dir, report.stage_counters, report.span_s); });
   report.outputs_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - outputs_start).count();
   report.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;

@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
+#include <sstream>
 
 #include "formats/extrinsic_status.hpp"
+#include "runtime/output_file.hpp"
 
 namespace fusecal {
 
@@ -77,7 +78,7 @@ std::string LatencyText(const std::vector<StationLatency>& latencies) {
 
 std::string WriteLatencyTable(const std::string& dir, const std::vector<StationLatency>& latencies) {
   const std::string path = dir + "/latency.csv";
-  std::ofstream file(path);
+  std::ostringstream file;
   file << "station,end_s,extrinsic_version,latency_s,scaled_version,scaled_latency_s\n";
   char line[160];
   for (const auto& l : latencies) {
@@ -93,6 +94,7 @@ std::string WriteLatencyTable(const std::string& dir, const std::vector<StationL
     write(l.scaled_version, l.scaled_latency_s);
     file << "\n";
   }
+  WriteFileChecked(path, file.str());
   return path;
 }
 

@@ -1,8 +1,8 @@
 #include "pipeline/outputs.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -11,6 +11,7 @@
 #include "formats/conversions.hpp"
 #include "formats/extrinsic_status.hpp"
 #include "foundation/extrinsic_verdict.hpp"
+#include "runtime/output_file.hpp"
 #include "visualization/overlay.hpp"
 
 namespace fusecal {
@@ -39,10 +40,21 @@ CalibrationResult ResultFromMessage(const extrinsic_t& e) {
 
 namespace {
 
+// The reasons motions failed, most frequent first: what a user needs when no extrinsic came out.
+std::string FailureReasonsText(const SessionRecord& session) {
+  std::vector<std::pair<int, std::string>> reasons;
+  for (const auto& [reason, count] : session.failure_reasons()) reasons.emplace_back(count, reason);
+  std::sort(reasons.begin(), reasons.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::string text;
+  for (size_t k = 0; k < reasons.size() && k < 3; ++k)
+    text += (k ? "; " : "; failed motions: ") + reasons[k].second + " (" + std::to_string(reasons[k].first) + "x)";
+  return text;
+}
+
 void WriteConvergence(const SessionRecord& session, const std::optional<Isometry3>& truth, const std::string& dir,
                       CalibrationOutputs* out) {
   const std::string csv = dir + "/convergence.csv";
-  std::ofstream file(csv);
+  std::ostringstream file;
   file << "version,iteration,status,scaled,change_rotation_deg,change_translation_m,rot_err_deg,trans_err_m\n";
   for (const auto& e : session.extrinsics()) {
     file << e.version << "," << e.iteration << "," << ExtrinsicStatusName(e.status) << "," << (e.scaled ? 1 : 0) << ","
@@ -54,7 +66,7 @@ void WriteConvergence(const SessionRecord& session, const std::optional<Isometry
       file << ",\n";
     }
   }
-  file.close();
+  WriteFileChecked(csv, file.str());
   out->files.push_back(csv);
   const std::string png = dir + "/convergence.png";
   std::ostringstream script;
@@ -71,7 +83,7 @@ void WriteConvergence(const SessionRecord& session, const std::optional<Isometry
   else
     script << "set ylabel 'change'; plot '" << csv << "' using 1:(1/0) notitle, " << changes;
   const std::string script_path = dir + "/convergence.gp";
-  std::ofstream(script_path) << script.str() << "\n";
+  WriteFileChecked(script_path, script.str() + "\n");
   const std::string command = "gnuplot '" + script_path + "' 2>/dev/null";
   if (std::system(command.c_str()) == 0 && fs::exists(png))
     out->files.push_back(png);
@@ -96,7 +108,7 @@ void WriteOverlays(const SessionRecord& session, const Isometry3& X, const std::
       cv::Mat both;
       cv::vconcat(board, depth, both);
       const std::string path = dir + "/overlay-" + std::to_string(station.id) + ".png";
-      cv::imwrite(path, both);
+      if (!cv::imwrite(path, both)) throw std::runtime_error(path + ": cannot write the PNG");
       files[k] = path;
     } catch (const std::exception& e) {
       warnings[k] = "overlay of station " + std::to_string(station.id) + ": " + e.what();
@@ -130,7 +142,7 @@ void WriteColoredCloud(const SessionRecord& session, const Isometry3& X, const s
       points.emplace_back(p, bgr.at<cv::Vec3b>(v, u));
     }
     const std::string path = dir + "/colored_cloud.ply";
-    std::ofstream file(path, std::ios::binary);
+    std::ostringstream file;
     file << "ply\nformat binary_little_endian 1.0\ncomment fusecal: station " << station.id
          << " coloured through the estimated extrinsic\nelement vertex " << points.size()
          << "\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\n"
@@ -140,6 +152,7 @@ void WriteColoredCloud(const SessionRecord& session, const Isometry3& X, const s
       const uint8_t rgb[3] = {c[2], c[1], c[0]};
       file.write(reinterpret_cast<const char*>(rgb), 3);
     }
+    WriteFileChecked(path, file.str());
     out->files.push_back(path);
   } catch (const std::exception& e) {
     out->warnings.push_back(std::string("colored_cloud.ply: ") + e.what());
@@ -171,12 +184,23 @@ CalibrationOutputs WriteCalibrationOutputs(const SessionRecord& session, const s
     out.final_result.observability = session.stations().size() < 3 ? Name(Observability::kTooFewMotions) : "unknown";
     out.final_result.extra["message"] = "no extrinsic was estimated: " + std::to_string(session.stations().size()) +
                                         " stations, " + std::to_string(session.lidar_motions()) + " LiDAR and " +
-                                        std::to_string(session.camera_motions()) + " camera motions";
+                                        std::to_string(session.camera_motions()) + " camera motions" +
+                                        FailureReasonsText(session);
   }
+  // A file that cannot be written is a warning, not the end: the summary still shows the result.
   const std::string yaml = dir + "/extrinsic.yaml";
-  WriteResultFile(yaml, out.final_result, session.Initial() ? &out.initial_result : nullptr);
-  out.files.push_back(yaml);
-  WriteConvergence(session, truth, dir, &out);
+  try {
+    WriteResultFile(yaml, out.final_result, session.Initial() ? &out.initial_result : nullptr);
+    out.files.push_back(yaml);
+    out.result_file_written = true;
+  } catch (const std::exception& e) {
+    out.warnings.push_back(std::string("the result file was not written: ") + e.what());
+  }
+  try {
+    WriteConvergence(session, truth, dir, &out);
+  } catch (const std::exception& e) {
+    out.warnings.push_back(e.what());
+  }
   if (out.has_result) {
     WriteOverlays(session, out.final_result.T_camera_lidar, dir, &out);
     WriteColoredCloud(session, out.final_result.T_camera_lidar, dir, &out);
@@ -221,8 +245,16 @@ std::string SummaryText(const CalibrationOutputs& o, const std::string& dir) {
   return s.str();
 }
 
+void AddOutputFile(CalibrationOutputs* outputs, const std::function<std::string()>& write) {
+  try {
+    outputs->files.push_back(write());
+  } catch (const std::exception& e) {
+    outputs->warnings.push_back(e.what());
+  }
+}
+
 bool FinalConverged(const CalibrationOutputs& outputs) {
-  return outputs.final_result.status == Name(HandEyeStatus::kConverged);
+  return outputs.final_result.status == Name(HandEyeStatus::kConverged) && outputs.result_file_written;
 }
 
 }  // namespace fusecal

@@ -6,6 +6,7 @@
 //   colored_cloud.ply   station scans coloured from their images, in the frame of the first station
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -21,17 +22,22 @@ struct CalibrationOutputs {
   std::optional<ExtrinsicError> final_error, initial_error;  // against ground truth, when known
   std::optional<ObservableError> observable_error;          // when the result names an unobservable direction
   std::vector<std::string> files;
-  std::vector<std::string> warnings;  // e.g. gnuplot missing
+  std::vector<std::string> warnings;  // e.g. gnuplot missing, a file that could not be written
+  bool result_file_written = false;   // extrinsic.yaml
 };
 
 CalibrationResult ResultFromMessage(const extrinsic_t& message);
+
+// Runs `write` (which returns the path it wrote) and lists the file, or its failure as a warning.
+void AddOutputFile(CalibrationOutputs* outputs, const std::function<std::string()>& write);
 
 CalibrationOutputs WriteCalibrationOutputs(const SessionRecord& session, const std::string& out_dir);
 
 // One paragraph for the terminal: verdict, estimate, errors when known, where the files are.
 std::string SummaryText(const CalibrationOutputs& outputs, const std::string& out_dir);
 
-// Whether the final result has converged (`run` and `calibrate` exit with 0 then).
+// Whether the final result has converged and its result file was written (`run` and `calibrate` exit
+// with 0 then).
 bool FinalConverged(const CalibrationOutputs& outputs);
 
 }  // namespace fusecal

@@ -43,8 +43,11 @@ SessionRecord::SessionRecord(Bus& bus, const std::string& record_path, bool reco
     } else if (ch == channels::kLidarMotion || ch == channels::kCameraMotion) {
       motion_t m{};
       if (!Decode(raw, &m)) return;
-      if (!m.valid) ++failed_motions_;
-      else if (ch == channels::kLidarMotion) ++lidar_motions_;
+      if (!m.valid) {
+        ++failed_motions_;
+        const std::string reason = ch + ": " + m.failure_reason.substr(0, 200);
+        if (failure_reasons_.count(reason) || failure_reasons_.size() < kMaxFailureReasons) ++failure_reasons_[reason];
+      } else if (ch == channels::kLidarMotion) ++lidar_motions_;
       else ++camera_motions_;
       last_news_utime_ = raw.receive_utime;
     } else if (ch == channels::kStatus) {

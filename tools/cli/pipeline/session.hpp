@@ -37,6 +37,9 @@ class SessionRecord {
   int lidar_motions() const { return lidar_motions_; }
   int camera_motions() const { return camera_motions_; }
   int failed_motions() const { return failed_motions_; }
+  // Why motions failed: "LIDAR_MOTION: <reason>" -> how often (at most kMaxFailureReasons distinct ones).
+  const std::map<std::string, int>& failure_reasons() const { return failure_reasons_; }
+  static constexpr size_t kMaxFailureReasons = 16;
   int64_t last_news_utime() const { return last_news_utime_; }
   // Latest STATUS per stage name: state and last error.
   const std::map<std::string, std::pair<std::string, std::string>>& stage_states() const { return stage_states_; }
@@ -60,6 +63,7 @@ class SessionRecord {
   std::vector<uint8_t> camera_info_bytes_;
   std::optional<ground_truth_t> ground_truth_;
   int lidar_motions_ = 0, camera_motions_ = 0, failed_motions_ = 0;
+  std::map<std::string, int> failure_reasons_;
   int64_t last_news_utime_ = 0;
   std::map<std::string, std::pair<std::string, std::string>> stage_states_;
   std::map<std::string, std::map<std::string, double>> stage_counters_;

@@ -1,9 +1,10 @@
 #include "pipeline/stage_table.hpp"
 
 #include <cstdio>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
+
+#include "runtime/output_file.hpp"
 
 namespace fusecal {
 
@@ -21,7 +22,7 @@ std::string StageBusyText(const StageCounters& stages) {
 
 std::string WriteStageTable(const std::string& dir, const StageCounters& stages, double span_s) {
   const std::string path = dir + "/stages.csv";
-  std::ofstream file(path);
+  std::ostringstream file;
   file << "stage,items,mean_ms,p95_ms,busy_s,skipped,realtime_factor\n";
   char line[256];
   for (const auto& [stage, c] : stages) {
@@ -31,6 +32,7 @@ std::string WriteStageTable(const std::string& dir, const StageCounters& stages,
                   span_s > 0 ? busy / span_s : 0.0);
     file << line;
   }
+  WriteFileChecked(path, file.str());
   return path;
 }
 
