@@ -38,27 +38,8 @@ int64_t NowUtime() {
       .count();
 }
 
-void CheckUdpmUrl(const std::string& url) {
-  const auto query = url.find('?');
-  if (query == std::string::npos) return;
-  std::istringstream params(url.substr(query + 1));
-  for (std::string item; std::getline(params, item, '&');) {
-    const auto eq = item.find('=');
-    const std::string key = item.substr(0, eq);
-    const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
-    if (key == "ttl")
-      UrlInteger(url, key, value, 0, 255);
-    else if (key == "recv_buf_size")
-      UrlInteger(url, key, value, 1, (1ll << 31) - 1);
-    else if (key == "reliable" || key == "loss" || key == "jitter_ms" || key == "fragment_kb" ||
-             key == "history_mb" || key == "give_up_s" || key == "loss_seed")
-      throw BusError("bus URL '" + url + "': udpm:// carries plain LCM and has no " + key +
-                     "=; for lossy or routed links and several hosts use dds:// (reliable QoS)");
-  }
-}
-
 LcmBus::LcmBus(const std::string& url) : url_(url), alive_(std::make_shared<bool>(true)) {
-  if (url.rfind("udpm://", 0) == 0) CheckUdpmUrl(url);
+  ParseBusUrl(url);  // options and ranges, before LCM sees the URL
   lcm_ = lcm_create(url.c_str());
   if (!lcm_)
     throw BusError("cannot open LCM bus '" + url +

@@ -45,8 +45,4 @@ class LcmBus : public Bus {
   int handled_ = 0;
 };
 
-// Checks the query of a udpm:// URL: ttl in [0, 255], recv_buf_size a positive byte count; throws
-// BusError naming the parameter. Parameters of a reliable layer over LCM are refused with the URL to use.
-void CheckUdpmUrl(const std::string& url);
-
 }  // namespace fusecal

@@ -1,6 +1,7 @@
 #include <cstdlib>
 
 #include "runtime/bus.hpp"
+#include "runtime/bus_url.hpp"
 #include "runtime/lcm_bus.hpp"
 #ifdef FUSECAL_WITH_DDS
 #include "runtime/dds/dds_bus.hpp"
@@ -11,14 +12,6 @@
 
 namespace fusecal {
 
-namespace {
-
-constexpr const char* kSchemes =
-    "udpm:// (LCM UDP multicast), memq:// (LCM in-process), file:// (LCM log), tcpq:// (LCM over TCP), "
-    "dds:// (Cyclone DDS), iox:// (iceoryx shared memory, zero-copy)";
-
-}  // namespace
-
 std::string DefaultBusUrl() {
   if (const char* env = std::getenv("LCM_DEFAULT_URL"); env && *env) return env;
   return "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=67108864";
@@ -26,10 +19,7 @@ std::string DefaultBusUrl() {
 
 std::unique_ptr<Bus> MakeBus(const std::string& url) {
   const std::string chosen = url.empty() ? DefaultBusUrl() : url;
-  const auto scheme_end = chosen.find("://");
-  if (scheme_end == std::string::npos)
-    throw BusError("bus URL '" + chosen + "' has no scheme (expected one of " + kSchemes + ")");
-  const std::string scheme = chosen.substr(0, scheme_end);
+  const std::string scheme = ParseBusUrl(chosen).scheme;  // every option checked, for every transport
   if (scheme == "udpm" || scheme == "memq" || scheme == "file" || scheme == "tcpq")
     return std::make_unique<LcmBus>(chosen);
   if (scheme == "dds") {
@@ -50,7 +40,8 @@ std::unique_ptr<Bus> MakeBus(const std::string& url) {
                    "then reconfigure with -DFUSECAL_WITH_IOX=ON)");
 #endif
   }
-  throw BusError("bus URL '" + chosen + "': unknown transport '" + scheme + "' (expected one of " + kSchemes + ")");
+  throw BusError("bus URL '" + chosen + "': unknown transport '" + scheme + "' (expected one of " +
+                 BusUrlSchemes() + ")");
 }
 
 }  // namespace fusecal

@@ -292,41 +292,15 @@ struct DdsBus::Impl {
     return delivered;
   }
 
-  // Reads domain=, shm=, depth=, bulk_depth= and shm_max= from the URL.
+  // Reads domain=, shm=, depth=, bulk_depth= and shm_max= from the URL (checked by ParseBusUrl).
   void ParseUrl(const std::string& text) {
-    if (text.rfind("dds://", 0) != 0) throw BusError("bus URL '" + text + "' is not a dds:// URL");
-    std::string rest = text.substr(6);
-    const auto question = rest.find('?');
-    const std::string host = rest.substr(0, question);
-    if (!host.empty() && host != "/")
-      throw BusError("bus URL '" + text + "': DDS takes no address ('" + host +
-                     "'); use dds://?domain=N&shm=0|1&depth=N");
-    if (question != std::string::npos) {
-      std::string query = rest.substr(question + 1);
-      size_t pos = 0;
-      while (pos <= query.size()) {
-        const size_t amp = std::min(query.find('&', pos), query.size());
-        const std::string item = query.substr(pos, amp - pos);
-        pos = amp + 1;
-        if (item.empty()) continue;
-        const auto eq = item.find('=');
-        const std::string key = item.substr(0, eq);
-        const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
-        if (key == "domain")
-          domain_id = static_cast<uint32_t>(UrlInteger(text, key, value, 0, 232));
-        else if (key == "shm")
-          shm_requested = UrlInteger(text, key, value, 0, 1) == 1;
-        else if (key == "depth")
-          depth = UrlInteger(text, key, value, 1, 256);  // iceoryx caps a subscriber queue at 256
-        else if (key == "bulk_depth")
-          bulk_depth = UrlInteger(text, key, value, 1, 256);
-        else if (key == "shm_max")
-          shm_max = UrlInteger(text, key, value, 1024, 2147483647);
-        else
-          throw BusError("bus URL '" + text + "': unknown parameter '" + key +
-                         "' (DDS takes domain=, shm=, shm_max=, depth= and bulk_depth=)");
-      }
-    }
+    const ParsedBusUrl parsed = ParseBusUrl(text);
+    if (parsed.scheme != "dds") throw BusError("bus URL '" + text + "' is not a dds:// URL");
+    domain_id = static_cast<uint32_t>(parsed.Get("domain", domain_id));
+    shm_requested = parsed.Get("shm", shm_requested ? 1 : 0) == 1;
+    depth = static_cast<int>(parsed.Get("depth", depth));
+    bulk_depth = static_cast<int>(parsed.Get("bulk_depth", bulk_depth));
+    shm_max = parsed.Get("shm_max", shm_max);
   }
 
   // Shared memory only when asked for and a RouDi runs; otherwise the network path, said once.

@@ -31,7 +31,9 @@ using Clock = std::chrono::steady_clock;
 
 constexpr int kDefaultDepth = 64;     // small channels: STATUS, motions, EXTRINSIC, ...
 constexpr int kDefaultBulkDepth = 8;  // images, scans, stations: each queued one holds a pool chunk
-constexpr int kMaxQueue = 256;        // iceoryx 2.0's MAX_SUBSCRIBER_QUEUE_CAPACITY
+// ParseBusUrl's ranges: depth= up to iceoryx 2.0's MAX_SUBSCRIBER_QUEUE_CAPACITY (256), max= short of
+// 4 GiB by the chunk header.
+static_assert(iox::kChunkHeaderBytes <= 64, "bus_url.hpp's max= range leaves 64 bytes for the header");
 // Just under the 4 MiB chunks of RouDi's built-in pools (iceoryx's chunk header comes on top).
 constexpr long kDefaultMax = 4 * 1024 * 1024 - static_cast<long>(shm::kChunkOverheadBytes);
 constexpr auto kNewPublisherWait = std::chrono::milliseconds(250);  // > RouDi's 100 ms discovery loop
@@ -118,37 +120,14 @@ struct IoxBus::Impl {
     if (discovery) iox_service_discovery_deinit(discovery);
   }
 
+  // Reads depth=, bulk_depth=, max= and self= from the URL (checked by ParseBusUrl).
   void ParseUrl(const std::string& text) {
-    if (text.rfind("iox://", 0) != 0) throw BusError("bus URL '" + text + "' is not an iox:// URL");
-    const std::string rest = text.substr(6);
-    const auto question = rest.find('?');
-    const std::string host = rest.substr(0, question);
-    if (!host.empty() && host != "/")
-      throw BusError("bus URL '" + text + "': iceoryx takes no address ('" + host +
-                     "'); use iox://?depth=N&bulk_depth=N&max=BYTES");
-    if (question == std::string::npos) return;
-    const std::string query = rest.substr(question + 1);
-    size_t pos = 0;
-    while (pos <= query.size()) {
-      const size_t amp = std::min(query.find('&', pos), query.size());
-      const std::string item = query.substr(pos, amp - pos);
-      pos = amp + 1;
-      if (item.empty()) continue;
-      const auto eq = item.find('=');
-      const std::string key = item.substr(0, eq);
-      const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
-      if (key == "depth")
-        depth = static_cast<int>(UrlInteger(text, key, value, 1, kMaxQueue));
-      else if (key == "bulk_depth")
-        bulk_depth = static_cast<int>(UrlInteger(text, key, value, 1, kMaxQueue));
-      else if (key == "max")
-        max_message = UrlInteger(text, key, value, 1024, 0xffffffffL - static_cast<long>(iox::kChunkHeaderBytes));
-      else if (key == "self")
-        deliver_own = UrlInteger(text, key, value, 0, 1) == 1;
-      else
-        throw BusError("bus URL '" + text + "': unknown parameter '" + key +
-                       "' (iceoryx takes depth=, bulk_depth=, max= and self=)");
-    }
+    const ParsedBusUrl parsed = ParseBusUrl(text);
+    if (parsed.scheme != "iox") throw BusError("bus URL '" + text + "' is not an iox:// URL");
+    depth = static_cast<int>(parsed.Get("depth", depth));
+    bulk_depth = static_cast<int>(parsed.Get("bulk_depth", bulk_depth));
+    max_message = parsed.Get("max", max_message);
+    deliver_own = parsed.Get("self", deliver_own ? 1 : 0) == 1;
   }
 
   void EnsureReaderLocked(const std::string& channel) {

@@ -1,5 +1,7 @@
 #include "pipeline/pipeline_config.hpp"
 
+#include "runtime/bus_url.hpp"
+
 namespace fusecal {
 
 PipelineConfig LoadPipelineConfig(const std::string& path) {
@@ -7,7 +9,14 @@ PipelineConfig LoadPipelineConfig(const std::string& path) {
   c.path = path;
   ConfigReader root = ConfigReader::FromFile(path);
   ConfigReader bus = root.Child("bus");
-  bus.Get("url", &c.bus_url);
+  bus.Get<std::string>("url", &c.bus_url, [](const std::string& url) {
+    try {
+      ParseBusUrl(url);
+      return std::string();
+    } catch (const BusError& e) {
+      return std::string(e.what());
+    }
+  });
   double max_message_mb = double(c.max_message_bytes) / 1e6;
   bus.Get("max_message_mb", &max_message_mb, Positive<double>());
   c.max_message_bytes = static_cast<size_t>(max_message_mb * 1e6);

@@ -60,6 +60,14 @@ struct PipelineWatch {
 };
 
 // One `fusecal run`: the stage processes, the coordinator's bus, the session record, the player.
+// The run's bus URL, checked before RouDi or any stage starts: a bad option is one clear error here rather
+// than stages failing and being restarted.
+std::string CheckedBusUrl(const std::string& url) {
+  const std::string chosen = url.empty() ? DefaultBusUrl() : url;
+  ParseBusUrl(chosen);
+  return chosen;
+}
+
 class PipelineRun {
  public:
   PipelineRun(const PipelineConfig& config, const RunOptions& options, const std::atomic<bool>& stop,
@@ -71,7 +79,7 @@ class PipelineRun {
         progress_(progress),
         event_(event),
         player_(!options.log_path.empty()),
-        url_(options.bus_url.empty() ? (config.bus_url.empty() ? DefaultBusUrl() : config.bus_url) : options.bus_url),
+        url_(CheckedBusUrl(options.bus_url.empty() ? config.bus_url : options.bus_url)),
         use_detector_(config.stations_from == "detector" ||
                       (config.stations_from == "auto" && (options.log_path.empty() || !LogHasStations(options.log_path)))),
         // With shm=1 or iox://, RouDi is started here and the coordinator stays off shared memory
@@ -322,13 +330,14 @@ class PipelineRun {
     report_.span_s = first_utime_ < 0 ? 0.0 : (last_utime_ - first_utime_) * 1e-6;
     session_.Close();
     report_.outputs = WriteCalibrationOutputs(session_, options_.out_dir);
-    report_.outputs.files.push_back(WriteStageTable(options_.out_dir, report_.stage_counters, report_.span_s));
+    AddOutputFile(&report_.outputs,
+                  [&] { return WriteStageTable(options_.out_dir, report_.stage_counters, report_.span_s); });
     if (options_.live && first_utime_ >= 0) {
       const double speed = options_.speed > 0 ? options_.speed : 1.0;
       report_.latencies = StationLatencies(session_, first_utime_, [&](int64_t log_utime) {
         return replay_start_wall_utime_ + static_cast<int64_t>((log_utime - first_utime_) / speed);
       });
-      report_.outputs.files.push_back(WriteLatencyTable(options_.out_dir, report_.latencies));
+      AddOutputFile(&report_.outputs, [&] { return WriteLatencyTable(options_.out_dir, report_.latencies); });
     }
     return report_;
   }
