@@ -3,7 +3,9 @@
 #include <map>
 #include <string>
 
+#include "runtime/bus_url.hpp"
 #include "runtime/config_reader.hpp"
+#include "runtime/strict_yaml.hpp"
 
 namespace fusecal {
 namespace {
@@ -141,6 +143,69 @@ TEST(CameraFile, ErrorsNameTheKey) {
       EXPECT_NE(std::string(e.what()).find("'" + key), std::string::npos) << e.what();
     }
   }
+}
+
+// Expects LoadStrictYaml to fail with a message containing `what`.
+void ExpectYamlError(const std::string& text, const std::string& what) {
+  try {
+    LoadStrictYaml(text, "f.yaml");
+    ADD_FAILURE() << "accepted: " << text;
+  } catch (const YamlError& e) {
+    EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+  }
+}
+
+TEST(StrictYaml, AKeyGivenTwiceIsAnErrorWithBothLines) {
+  ExpectYamlError("a: 1\nb: 2\na: 3\n", "f.yaml:3: duplicate key 'a' (first at line 1)");
+  ExpectYamlError("s:\n  x: 1\n  y: 2\n  x: 1\n", "f.yaml:4: duplicate key 'x'");
+  ExpectYamlError("list:\n  - {k: 1, k: 2}\n", "duplicate key 'k'");
+  EXPECT_NO_THROW(LoadStrictYaml("a: {x: 1}\nb: {x: 2}\n", "f.yaml"));  // the same key in two maps
+}
+
+TEST(StrictYaml, AQuoteLeftOpenIsAnErrorWhereItOpens) {
+  ExpectYamlError("a: 1\nb: \"open\nc: 3\n", "f.yaml:2: a quoted value opens here and is never closed");
+  ExpectYamlError("a: 'open\n", "f.yaml:1:");
+  // Escapes are not closing quotes; closed values spanning lines are fine.
+  ExpectYamlError("a: \"x\\\"\n", "never closed");
+  EXPECT_EQ(LoadStrictYaml("a: 'it''s'\nb: \"q\\\"q\"\nc: \"two\n  lines\"\n", "f.yaml")["a"].as<std::string>(), "it's");
+}
+
+TEST(StrictYaml, SyntaxErrorsAndDirectoriesNameTheFileAndLine) {
+  ExpectYamlError("a: [1, 2\nb: 1\n", "f.yaml:");
+  try {
+    LoadStrictYamlFile(testing::TempDir());
+    ADD_FAILURE() << "a directory was read as YAML";
+  } catch (const YamlError& e) {
+    EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ConfigReader::FromString("a: 1\na: 2\n"), ConfigError);
+}
+
+TEST(BusUrl, EveryOptionOfEverySchemeIsCheckedByOneParser) {
+  const ParsedBusUrl dds = ParseBusUrl("dds://?domain=7&shm=1&depth=16");
+  EXPECT_EQ(dds.scheme, "dds");
+  EXPECT_EQ(dds.Get("domain", 0), 7);
+  EXPECT_EQ(dds.Get("bulk_depth", 8), 8);
+  EXPECT_EQ(ParseBusUrl("udpm://239.255.76.67:7667?ttl=1").Get("ttl", 0), 1);
+  EXPECT_NO_THROW(ParseBusUrl("file:///tmp/x.lcmlog?speed=2"));  // LCM's own options
+  auto expect_refused = [](const std::string& url, const std::string& what) {
+    try {
+      ParseBusUrl(url);
+      ADD_FAILURE() << "accepted: " << url;
+    } catch (const BusError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  expect_refused("iox://?max=banana", "max=banana is not an integer in [1024,");
+  expect_refused("iox://?max=1e9", "max=1e9");
+  expect_refused("dds://?depth=257", "depth=257");
+  expect_refused("dds://?domian=1", "unknown parameter 'domian' (dds:// takes domain=");
+  expect_refused("memq://?ttl=0", "memq:// takes none");
+  expect_refused("udpm://239.255.76.67:7667?reliable=1", "use dds://");
+  expect_refused("udpm://239.255.76.67", "GROUP:PORT");
+  expect_refused("iox://somewhere", "takes no address");
+  expect_refused("zmq://x", "unknown transport 'zmq'");
+  expect_refused("239.255.76.67:7667", "has no scheme");
 }
 
 }  // namespace

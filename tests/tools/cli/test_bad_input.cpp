@@ -288,9 +288,122 @@ std::vector<BadCase> EdgeCases() {
   return c;
 }
 
+// A copy of the good log whose stations all say the camera is `width` pixels wide (the images unchanged).
+std::string LogWithCameraWidth(const std::string& name, int width) {
+  const std::string path = In(name);
+  LogReader reader(GoodLog());
+  LogWriter writer(path);
+  while (auto e = reader.Next()) {
+    if (e->channel == "STATION") {
+      station_t station;
+      if (station.decode(e->data.data(), 0, static_cast<int>(e->data.size())) < 0) continue;
+      station.camera.width = width;
+      std::vector<uint8_t> bytes(static_cast<size_t>(station.getEncodedSize()));
+      station.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+      writer.Write(e->channel, e->utime, bytes.data(), bytes.size());
+    } else {
+      writer.Write(e->channel, e->utime, e->data.data(), e->data.size());
+    }
+  }
+  return path;
+}
+
+// YAML read strictly: a key given twice or a quote left open is an error with file and line, in every
+// kind of YAML file the project reads.
+std::vector<BadCase> StrictYamlCases() {
+  std::vector<BadCase> c;
+  const std::string calibrate = "calibrate --log " + GoodLog() + " --out " + In("yaml-out") + " --config ";
+  c.push_back({"ConfigKeyGivenTwice", [] { ConfigWith("d1.yaml", "", "stations_from: log\nstations_from: detector"); },
+               calibrate + In("d1.yaml"), "duplicate key 'stations_from'"});
+  c.push_back({"ConfigSectionKeyGivenTwice", [] { ConfigWith("d2.yaml", "handeye", "max_iterations: 5\n  max_iterations: 9"); },
+               calibrate + In("d2.yaml"), "duplicate key 'max_iterations'"});
+  c.push_back({"ConfigQuoteLeftOpen", [] { ConfigWith("d3.yaml", "", "note: \"unfinished"); },
+               calibrate + In("d3.yaml"), "never closed"});
+  c.push_back({"ConfigIsADirectory", [] { mkdir(In("config-dir").c_str(), 0755); }, calibrate + In("config-dir"),
+               "config-dir: is a directory"});
+  const std::string camera_motion = "camera-motion " + In("good.png") + " " + In("good.png") + " --camera ";
+  auto textured = [] {
+    cv::Mat image(128, 256, CV_8UC1);
+    cv::randu(image, 0, 255);
+    cv::imwrite(In("good.png"), image);
+  };
+  c.push_back({"CameraKeyGivenTwice", [=] { textured(); WriteAll(In("d-cam.yaml"), std::string(kPanoramaCamera) + "width: 512\n"); },
+               camera_motion + In("d-cam.yaml"), "d-cam.yaml:4: duplicate key 'width' (first at line 2)"});
+  c.push_back({"CameraQuoteLeftOpen", [=] { textured(); WriteAll(In("q-cam.yaml"), "model: 'equirectangular\nwidth: 256\nheight: 128\n"); },
+               camera_motion + In("q-cam.yaml"), "q-cam.yaml:1: a quoted value opens here and is never closed"});
+  const std::string matrix = "T_camera_lidar: [1, 0, 0, 0.1, 0, 1, 0, 0.2, 0, 0, 1, 0.3, 0, 0, 0, 1]\n";
+  c.push_back({"ResultKeyGivenTwice", [=] { WriteAll(In("d-result.yaml"), matrix + "status: converged\n" + matrix); },
+               "export " + In("d-result.yaml") + " --format json", "duplicate key 'T_camera_lidar'"});
+  c.push_back({"ResultQuoteLeftOpen", [=] { WriteAll(In("q-result.yaml"), "status: \"converged\n" + matrix); },
+               "export " + In("q-result.yaml") + " --format kitti", "never closed"});
+  c.push_back({"TruthKeyGivenTwice", [=] {
+                 WriteAll(In("good-result.yaml"), matrix);
+                 WriteAll(In("d-truth.yaml"), matrix + matrix);
+               },
+               "evaluate --result " + In("good-result.yaml") + " --truth " + In("d-truth.yaml"), "d-truth.yaml:2: duplicate key"});
+  c.push_back({"ScenarioKeyGivenTwice", [] {
+                 WriteAll(In("d-scenario.yaml"), ReadAll(kScenarios + "/tiny-equirect.yaml") + "\nseed: 1\nseed: 2\n");
+               },
+               "simulate --scenario " + In("d-scenario.yaml") + " --out " + In("d-sim.lcmlog"), "duplicate key 'seed'"});
+  return c;
+}
+
+// Bus URLs: one parser, before any process starts; every option with its range.
+std::vector<BadCase> BusUrlCases() {
+  std::vector<BadCase> c;
+  const std::string run = "run --log " + GoodLog() + " --out " + In("url-out") + " --bus ";
+  c.push_back({"RunIoxMaxNotANumber", [] {}, run + "'iox://?max=banana'", "max=banana is not an integer"});
+  c.push_back({"RunIoxDepthOutOfRange", [] {}, run + "'iox://?depth=100000'", "depth=100000"});
+  c.push_back({"RunTtlOutOfRange", [] {}, run + "'udpm://239.255.76.67:7699?ttl=999'", "ttl=999"});
+  c.push_back({"RunReceiveBufferNegative", [] {}, run + "'udpm://239.255.76.67:7699?recv_buf_size=-1'",
+               "recv_buf_size=-1"});
+  c.push_back({"RunUdpmWithoutPort", [] {}, run + "'udpm://239.255.76.67'", "GROUP:PORT"});
+  c.push_back({"RunDdsUnknownOption", [] {}, run + "'dds://?domian=3'", "unknown parameter 'domian'"});
+  c.push_back({"RunDdsDomainOutOfRange", [] {}, run + "'dds://?domain=300'", "domain=300"});
+  c.push_back({"RunDdsWithAnAddress", [] {}, run + "'dds://10.0.0.1'", "takes no address"});
+  c.push_back({"RunUnknownScheme", [] {}, run + "'zmq://localhost'", "unknown transport 'zmq'"});
+  c.push_back({"ConfigBusUrlOutOfRange", [] {
+                 std::string text = ReadAll(kConfig);
+                 const size_t at = text.find("\n  url: ");
+                 text.replace(at + 1, text.find('\n', at + 1) - at - 1, "  url: 'dds://?depth=0'");
+                 WriteAll(In("bus.yaml"), text);
+               },
+               "run --log " + GoodLog() + " --out " + In("url-out") + " --config " + In("bus.yaml"), "depth=0"});
+  c.push_back({"DoctorIoxMaxNotANumber", [] {}, "doctor --bus 'iox://?max=banana'", "max=banana"});
+  c.push_back({"DoctorMemqWithOptions", [] {}, "doctor --bus 'memq://?ttl=1'", "unknown parameter 'ttl'"});
+  return c;
+}
+
+// Outputs: written and checked after flush and close; a camera a stage cannot use says why.
+std::vector<BadCase> OutputAndSizeCases() {
+  std::vector<BadCase> c;
+  c.push_back({"HandeyeResultToAFullDisk", [] { WriteAll(In("motions.csv"), OneAxisCsv(8)); },
+               "handeye --motions " + In("motions.csv") + " --camera-scaled --out /dev/full", "/dev/full"});
+  c.push_back({"ImportOntoADirectory", [] {
+                 mkdir(In("import-dir").c_str(), 0755);
+                 mkdir(In("pairs").c_str(), 0755);
+                 WriteBin(In("pairs/0001.bin"), BoxCloud());
+                 cv::Mat textured(128, 256, CV_8UC1);
+                 cv::randu(textured, 0, 255);
+                 cv::imwrite(In("pairs/0001.png"), textured);
+                 WriteCamera(In("pairs-camera.yaml"), kPanoramaCamera);
+               },
+               "import folder " + In("pairs") + " --camera " + In("pairs-camera.yaml") + " --out " + In("import-dir"),
+               "import-dir is a directory"});
+  c.push_back({"StationsWithACameraWiderThanItsImages", [] { LogWithCameraWidth("wide-camera.lcmlog", 100000); },
+               "calibrate --log " + In("wide-camera.lcmlog") + " --out " + In("wide-out"),
+               "failed motions: CAMERA_MOTION: image i: image is 512x256 but the camera model expects 100000x256"});
+  c.push_back({"RunSpeedNegative", [] {}, "run --log " + GoodLog() + " --live --speed -2 --out " + In("neg"), "--speed"});
+  c.push_back({"RunSpeedInfinite", [] {}, "run --log " + GoodLog() + " --live --speed inf --out " + In("inf"), "--speed"});
+  return c;
+}
+
 std::vector<BadCase> AllCases() {
   std::vector<BadCase> all = Cases();
   for (auto& c : EdgeCases()) all.push_back(std::move(c));
+  for (auto& c : StrictYamlCases()) all.push_back(std::move(c));
+  for (auto& c : BusUrlCases()) all.push_back(std::move(c));
+  for (auto& c : OutputAndSizeCases()) all.push_back(std::move(c));
   return all;
 }
 
