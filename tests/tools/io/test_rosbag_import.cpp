@@ -18,6 +18,7 @@
 #include "fusecal/image_t.hpp"
 #include "fusecal/point_cloud_t.hpp"
 #include "support/process_utils.hpp"
+#include "formats/ros_sensor_conversions.hpp"
 #include "importers/ros_messages.hpp"
 #include "importers/rosbag.hpp"
 #include "runtime/channels.hpp"
@@ -182,33 +183,33 @@ TEST(RosbagImport, TheFourMessageTypesBecomeALogInHeaderStampOrder) {
 TEST(RosbagImport, ImageEncodingsBecomeGreyOrBgr) {
   SixteenBitScaler scaler;
   const cv::Mat rgb(2, 3, CV_8UC3, cv::Scalar(1, 2, 3));  // as R, G, B
-  EXPECT_EQ(RosImageToMat(RawImage(rgb, "rgb8", 0), scaler).at<cv::Vec3b>(1, 2), cv::Vec3b(3, 2, 1));
+  EXPECT_EQ(RosImageToMat(FromRos1(RawImage(rgb, "rgb8", 0)), scaler).at<cv::Vec3b>(1, 2), cv::Vec3b(3, 2, 1));
   const cv::Mat grey(2, 3, CV_8UC1, cv::Scalar(9));
-  const cv::Mat mono = RosImageToMat(RawImage(grey, "mono8", 0, 5), scaler);
+  const cv::Mat mono = RosImageToMat(FromRos1(RawImage(grey, "mono8", 0, 5)), scaler);
   EXPECT_EQ(mono.type(), CV_8UC1);
   EXPECT_EQ(mono.at<uint8_t>(1, 2), 9);
   // 12-bit data in 16-bit pixels: the first image fixes a shift of 4 for the recording.
   cv::Mat sixteen(2, 3, CV_16UC1, cv::Scalar(4095));
   sixteen.at<uint16_t>(0, 0) = 1600;
-  const cv::Mat eight = RosImageToMat(RawImage(sixteen, "mono16", 0), scaler);
+  const cv::Mat eight = RosImageToMat(FromRos1(RawImage(sixteen, "mono16", 0)), scaler);
   EXPECT_EQ(scaler.shift(), 4);
   EXPECT_EQ(eight.at<uint8_t>(0, 0), 100);
   EXPECT_EQ(eight.at<uint8_t>(1, 1), 255);
   sensor_msgs::Image big_endian = RawImage(cv::Mat(1, 1, CV_16UC1, cv::Scalar(0x0100)), "16UC1", 0);
   big_endian.is_bigendian = 1;  // bytes 00 01: the value 1
-  EXPECT_EQ(RosImageToMat(big_endian, scaler).at<uint8_t>(0, 0), 0);
+  EXPECT_EQ(RosImageToMat(FromRos1(big_endian), scaler).at<uint8_t>(0, 0), 0);
   cv::Mat bayer(4, 4, CV_8UC1, cv::Scalar(0));
-  EXPECT_EQ(RosImageToMat(RawImage(bayer, "bayer_rggb8", 0), scaler).type(), CV_8UC3);
+  EXPECT_EQ(RosImageToMat(FromRos1(RawImage(bayer, "bayer_rggb8", 0)), scaler).type(), CV_8UC3);
 
   try {
-    RosImageToMat(RawImage(grey, "yuv422", 0), scaler);
+    RosImageToMat(FromRos1(RawImage(grey, "yuv422", 0)), scaler);
     FAIL() << "yuv422 accepted";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("yuv422"), std::string::npos) << e.what();
   }
   sensor_msgs::Image short_data = RawImage(grey, "mono8", 0);
   short_data.data.resize(4);
-  EXPECT_THROW(RosImageToMat(short_data, scaler), std::runtime_error);
+  EXPECT_THROW(RosImageToMat(FromRos1(short_data), scaler), std::runtime_error);
 }
 
 TEST(RosbagImport, CloudsOfAnyFieldLayoutDropPointsWithoutReturn) {
@@ -227,7 +228,7 @@ TEST(RosbagImport, CloudsOfAnyFieldLayoutDropPointsWithoutReturn) {
     p[24] = static_cast<uint8_t>(100 + k);
   }
   int dropped = 0;
-  const PointCloud cloud = RosCloudToPointCloud(msg, &dropped);
+  const PointCloud cloud = RosCloudToPointCloud(FromRos1(msg), &dropped);
   ASSERT_EQ(cloud.size(), 2u);
   EXPECT_EQ(dropped, 2);
   EXPECT_EQ(cloud.points[1], Eigen::Vector3f(-4, 5, 6.5));
@@ -236,14 +237,14 @@ TEST(RosbagImport, CloudsOfAnyFieldLayoutDropPointsWithoutReturn) {
   sensor_msgs::PointCloud2 without_z = msg;
   without_z.fields.erase(without_z.fields.begin());
   try {
-    RosCloudToPointCloud(without_z);
+    RosCloudToPointCloud(FromRos1(without_z));
     FAIL() << "a cloud without z accepted";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("y, x, i"), std::string::npos) << e.what();
   }
   sensor_msgs::PointCloud2 truncated = msg;
   truncated.data.resize(100);
-  EXPECT_THROW(RosCloudToPointCloud(truncated), std::runtime_error);
+  EXPECT_THROW(RosCloudToPointCloud(FromRos1(truncated)), std::runtime_error);
 }
 
 // Sizes and offsets are checked in 64 bits: an offset near 2^32 does not wrap round to a small sum that
@@ -257,7 +258,7 @@ TEST(RosbagImport, OffsetsAndSizesNear32BitsAreRefusedNotWrapped) {
   msg.row_step = 12;
   msg.data.assign(12, 0);
   try {
-    RosCloudToPointCloud(msg);
+    RosCloudToPointCloud(FromRos1(msg));
     FAIL() << "a field at offset 2^32 - 2 was accepted";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("'z' lies beyond point_step"), std::string::npos) << e.what();
@@ -267,27 +268,27 @@ TEST(RosbagImport, OffsetsAndSizesNear32BitsAreRefusedNotWrapped) {
   wraps.width = 65536;
   wraps.height = 65536;  // width x height is 2^32: 0 in 32 bits
   wraps.point_step = 0;
-  EXPECT_THROW(RosCloudToPointCloud(wraps), std::runtime_error);
+  EXPECT_THROW(RosCloudToPointCloud(FromRos1(wraps)), std::runtime_error);
 }
 
 TEST(RosbagImport, CameraInfoPlumbBobAndEquidistant) {
-  const CameraParams pinhole = RosCameraInfoToParams(PlumbBob(640, 480));
+  const CameraParams pinhole = RosCameraInfoToParams(FromRos1(PlumbBob(640, 480)));
   EXPECT_EQ(pinhole.model, "pinhole");
   EXPECT_EQ(pinhole.cx, 31.5);
   EXPECT_EQ(pinhole.dist[0], -0.2);
   sensor_msgs::CameraInfo fisheye = PlumbBob(1024, 1024);
   fisheye.distortion_model = "equidistant";
   fisheye.D = {0.02, -0.006, 0.0009, -0.0002};
-  const CameraParams equidistant = RosCameraInfoToParams(fisheye);
+  const CameraParams equidistant = RosCameraInfoToParams(FromRos1(fisheye));
   EXPECT_EQ(equidistant.model, "equidistant");
   EXPECT_EQ(equidistant.dist[3], -0.0002);
   EXPECT_NO_THROW(MakeCameraModel(equidistant));
   sensor_msgs::CameraInfo uncalibrated = PlumbBob(640, 480);
   uncalibrated.K = {};
-  EXPECT_THROW(RosCameraInfoToParams(uncalibrated), std::runtime_error);
+  EXPECT_THROW(RosCameraInfoToParams(FromRos1(uncalibrated)), std::runtime_error);
   sensor_msgs::CameraInfo unknown = PlumbBob(640, 480);
   unknown.distortion_model = "fov";
-  EXPECT_THROW(RosCameraInfoToParams(unknown), std::runtime_error);
+  EXPECT_THROW(RosCameraInfoToParams(FromRos1(unknown)), std::runtime_error);
 }
 
 TEST(RosbagImport, AMissingOrMistypedTopicIsAnErrorListingTheBagsTopics) {

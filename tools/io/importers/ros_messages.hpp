@@ -1,49 +1,22 @@
-// ROS 1 sensor messages into fusecal's types: the only header besides rosbag.cpp that sees ROS (its
-// headers pull Boost and are slow to compile; see rosbag.hpp for the importer itself).
-// Every function throws std::runtime_error with a message saying what is wrong with the message.
+// ROS 1 sensor messages into the plain structs of formats/ros_sensor_messages.hpp, which
+// formats/ros_sensor_conversions.hpp turns into fusecal's types. Only ROS-1-specific .cpp files include
+// this header: sensor_msgs pulls Boost and is slow to compile.
+// Each function takes the message by value so that a caller done with it can move its bytes in.
 #pragma once
 
-#include <opencv2/core.hpp>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 
-#include "foundation/camera_model.hpp"
-#include "foundation/point_cloud.hpp"
+#include "formats/ros_sensor_messages.hpp"
 
 namespace fusecal {
 
-// Header stamp in microseconds since the epoch (0 when the stamp is zero: the caller falls back).
-int64_t RosStampToUtime(const ros::Time& stamp);
-
-// 16-bit images become 8-bit by one shift for the whole recording, chosen from the first 16-bit image
-// (its brightest pixel's bit count minus 8), so that brightness does not jump between frames.
-class SixteenBitScaler {
- public:
-  cv::Mat ToEightBit(const cv::Mat& image16);
-  int shift() const { return shift_; }
-
- private:
-  int shift_ = -1;  // not chosen yet
-};
-
-// sensor_msgs/Image -> CV_8UC1 or CV_8UC3 (BGR). Encodings: mono8, 8UC1, bgr8, rgb8, 8UC3, bgra8, rgba8,
-// mono16, 16UC1, bgr16, rgb16 (through `scaler`), bayer_rggb8/bggr8/gbrg8/grbg8. Honours step and
-// is_bigendian.
-cv::Mat RosImageToMat(const sensor_msgs::Image& msg, SixteenBitScaler& scaler);
-
-// sensor_msgs/CompressedImage: "jpeg" or "png" (also "bgr8; jpeg compressed bgr8" as image_transport
-// writes it). Returns the encoding for image_t and decodes the image into *decoded (to check it).
-std::string RosCompressedFormat(const sensor_msgs::CompressedImage& msg, cv::Mat* decoded);
-
-// sensor_msgs/PointCloud2 with fields x, y, z (any numeric type, any offsets, organised or not),
-// optionally intensity (or i) and ring. Points with a non-finite or all-zero position (no return) are
-// left out and counted in *dropped.
-PointCloud RosCloudToPointCloud(const sensor_msgs::PointCloud2& msg, int* dropped = nullptr);
-
-// sensor_msgs/CameraInfo: plumb_bob (or rational_polynomial with k4..k6 = 0) -> pinhole; equidistant ->
-// equidistant; K for the intrinsics (the image is assumed unrectified, as image_raw is).
-CameraParams RosCameraInfoToParams(const sensor_msgs::CameraInfo& msg);
+RosTime FromRos1(const ros::Time& time);
+RosImage FromRos1(sensor_msgs::Image msg);
+RosCompressedImage FromRos1(sensor_msgs::CompressedImage msg);
+RosPointCloud2 FromRos1(sensor_msgs::PointCloud2 msg);
+RosCameraInfo FromRos1(sensor_msgs::CameraInfo msg);
 
 }  // namespace fusecal

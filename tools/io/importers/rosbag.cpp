@@ -5,11 +5,14 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
+#include <set>
 #include <utility>
-#include <rosbag/bag.h>
-#include <rosbag/view.h>
 
-#include "importers/ros_messages.hpp"
+#include "formats/ros_sensor_conversions.hpp"
+#include "formats/ros_sensor_frames.hpp"
+#include "importers/bag_source.hpp"
+#include "importers/rosbag2_reader.hpp"
 
 namespace fusecal {
 
@@ -17,33 +20,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const char* const kImage = "sensor_msgs/Image";
-const char* const kCompressedImage = "sensor_msgs/CompressedImage";
-const char* const kCloud = "sensor_msgs/PointCloud2";
-const char* const kCameraInfo = "sensor_msgs/CameraInfo";
-
 using TopicTypes = std::map<std::string, std::string>;  // topic -> message type
 
-std::unique_ptr<rosbag::Bag> OpenBag(const std::string& path) {
-  const std::string ext = fs::path(path).extension().string();
-  if (ext == ".db3" || ext == ".mcap" || (fs::is_directory(path) && fs::exists(fs::path(path) / "metadata.yaml")))
-    throw std::runtime_error(path + " is a ROS 2 bag; fusecal reads ROS 1 bags (.bag). Convert it first, e.g. "
-                             "`rosbags-convert --src " + path + " --dst out.bag` (Python package rosbags)");
-  if (!fs::is_regular_file(path)) throw std::runtime_error(path + ": no such file");
-  auto bag = std::make_unique<rosbag::Bag>();
-  try {
-    bag->open(path, rosbag::bagmode::Read);
-  } catch (const rosbag::BagException& e) {
-    throw std::runtime_error(path + ": not a readable ROS 1 bag (" + e.what() + ")");
-  }
-  return bag;
+// ROS 1 bags are single files; a folder can only be a ROS 2 bag (whose reader says what it lacks).
+std::unique_ptr<BagSource> OpenBag(const std::string& path) {
+  if (Rosbag2Reader::IsRosbag2(path) || fs::is_directory(path)) return OpenRos2Bag(path);
+  return OpenRos1Bag(path);
 }
 
-TopicTypes ListTopics(const rosbag::Bag& bag) {
+TopicTypes ListTopics(const BagSource& bag) {
   TopicTypes topics;
-  rosbag::View view(bag);
-  for (const rosbag::ConnectionInfo* connection : view.getConnections())
-    topics[connection->topic] = connection->datatype;
+  for (const BagTopic& topic : bag.topics()) topics[topic.name] = topic.type;
   return topics;
 }
 
@@ -53,18 +40,18 @@ std::string Listing(const TopicTypes& topics) {
   return text.empty() ? "no topics" : text;
 }
 
-// The topic for `role`, checked against the types it may have.
-void RequireTopic(const TopicTypes& topics, const std::string& topic, const std::vector<std::string>& types,
-                  const std::string& role, const std::string& bag_path) {
+// The topic for `role`, checked against the kinds of message it may carry.
+void RequireTopic(const BagSource& bag, const TopicTypes& topics, const std::string& topic,
+                  const std::vector<RosMessageKind>& kinds, const std::string& role, const std::string& bag_path) {
   std::string accepted;
-  for (const auto& type : types) accepted += (accepted.empty() ? "" : " or ") + type;
+  for (const RosMessageKind kind : kinds) accepted += (accepted.empty() ? "" : " or ") + TypeName(kind, bag.ros_version());
   if (topic.empty())
     throw std::runtime_error("name the " + role + " topic (" + accepted + "); " + bag_path + " has: " +
                              Listing(topics));
   const auto it = topics.find(topic);
   if (it == topics.end())
     throw std::runtime_error(bag_path + " has no topic " + topic + "; it has: " + Listing(topics));
-  if (std::find(types.begin(), types.end(), it->second) == types.end())
+  if (std::find(kinds.begin(), kinds.end(), KindOfType(it->second)) == kinds.end())
     throw std::runtime_error(bag_path + ": topic " + topic + " is " + it->second + ", the " + role + " must be " +
                              accepted + "; the bag has: " + Listing(topics));
 }
@@ -75,30 +62,33 @@ std::string FindCameraInfoTopic(const TopicTypes& topics, const std::string& ima
   for (fs::path dir = fs::path(image_topic).parent_path(); !dir.empty(); dir = dir.parent_path()) {
     const std::string candidate = (dir / "camera_info").string();
     const auto it = topics.find(candidate);
-    if (it != topics.end() && it->second == kCameraInfo) return candidate;
+    if (it != topics.end() && KindOfType(it->second) == RosMessageKind::kCameraInfo) return candidate;
     if (dir == dir.parent_path()) break;
   }
   std::vector<std::string> infos;
   for (const auto& [topic, type] : topics)
-    if (type == kCameraInfo) infos.push_back(topic);
+    if (KindOfType(type) == RosMessageKind::kCameraInfo) infos.push_back(topic);
   return infos.size() == 1 ? infos.front() : std::string();
 }
 
-CameraParams ReadCameraModel(const rosbag::Bag& bag, const TopicTypes& topics, const RosbagImportOptions& options,
+CameraParams ReadCameraModel(BagSource& bag, const TopicTypes& topics, const RosbagImportOptions& options,
                              const std::string& bag_path) {
   if (options.camera) return *options.camera;
+  const std::string info_type = TypeName(RosMessageKind::kCameraInfo, bag.ros_version());
   std::string topic = options.camera_info_topic;
-  if (!topic.empty()) RequireTopic(topics, topic, {kCameraInfo}, "camera info", bag_path);
+  if (!topic.empty()) RequireTopic(bag, topics, topic, {RosMessageKind::kCameraInfo}, "camera info", bag_path);
   if (topic.empty()) topic = FindCameraInfoTopic(topics, options.image_topic);
   if (topic.empty())
-    throw std::runtime_error(bag_path + " has no sensor_msgs/CameraInfo next to " + options.image_topic +
+    throw std::runtime_error(bag_path + " has no " + info_type + " next to " + options.image_topic +
                              ": pass --camera CAM.yaml or --camera-info-topic; the bag has: " + Listing(topics));
-  rosbag::View view(bag, rosbag::TopicQuery(topic));
-  for (const rosbag::MessageInstance& m : view) {
-    const auto info = m.instantiate<sensor_msgs::CameraInfo>();
-    if (info) return RosCameraInfoToParams(*info);
-  }
-  throw std::runtime_error(bag_path + ": topic " + topic + " holds no CameraInfo message");
+  std::optional<RosCameraInfo> info;
+  bag.ForEach({topic}, [&](const BagMessage& m) {
+    if (KindOfType(m.type()) != RosMessageKind::kCameraInfo) return true;
+    info = m.CameraInfo();
+    return false;
+  });
+  if (!info) throw std::runtime_error(bag_path + ": topic " + topic + " holds no CameraInfo message");
+  return RosCameraInfoToParams(*info);
 }
 
 // Writes events in header-stamp order: bags are in arrival order, and the stamps of two sensors can
@@ -144,71 +134,77 @@ class SkipTally {
   std::map<std::string, std::pair<std::string, int>> skipped_;
 };
 
-// One bag message converted and queued for writing; throws on a message that cannot be used.
+// One bag message converted (RosSensorFrames, as the live ROS 2 input does) and queued for writing;
+// throws on a message that cannot be used.
 class MessageConverter {
  public:
   MessageConverter(const CameraParams& camera, ImportWriter& writer, TimeOrderedWriter& ordered)
-      : camera_(camera), writer_(writer), ordered_(ordered) {}
+      : frames_(camera), writer_(writer), ordered_(ordered) {}
 
-  // A topic may carry both types (two connections); instantiate<> does not check which one it reads.
-  void Image(const rosbag::MessageInstance& m) {
-    if (m.getDataType() == kImage) {
-      const auto raw = m.instantiate<sensor_msgs::Image>();
-      if (!raw) throw std::runtime_error("an Image message that does not decode");
-      const cv::Mat image = RosImageToMat(*raw, scaler_);
-      CheckSize(image);
-      const int64_t utime = Stamp(raw->header.stamp, m);
-      ordered_.Push(utime, [this, image, utime] {
-        writer_.WriteImage(utime, image);
-      });
+  // A ROS 1 topic may carry both image types (two connections): each message says which it is.
+  void Image(const BagMessage& m) {
+    const RosMessageKind kind = KindOfType(m.type());
+    if (kind == RosMessageKind::kImage) {
+      SensorImage image = frames_.Image(m.Image(), m.arrival_utime());
+      const int64_t utime = image.utime;
+      ordered_.Push(utime, [this, image = std::move(image)] { writer_.WriteImage(image.utime, image.pixels); });
       return;
     }
-    if (m.getDataType() != kCompressedImage) throw std::runtime_error("a " + m.getDataType() + " message, not an image");
-    const auto compressed = m.instantiate<sensor_msgs::CompressedImage>();
-    if (!compressed) throw std::runtime_error("a CompressedImage message that does not decode");
-    cv::Mat decoded;
-    const std::string encoding = RosCompressedFormat(*compressed, &decoded);
-    CheckSize(decoded);
-    const int64_t utime = Stamp(compressed->header.stamp, m);
-    ordered_.Push(utime, [this, compressed, encoding, utime, w = decoded.cols, h = decoded.rows] {
-      writer_.WriteImageFile(utime, compressed->data, encoding, w, h);
+    if (kind != RosMessageKind::kCompressedImage) throw std::runtime_error("a " + m.type() + " message, not an image");
+    SensorImage image = frames_.Image(m.CompressedImage(), m.arrival_utime());
+    const int64_t utime = image.utime;
+    ordered_.Push(utime, [this, image = std::move(image)] {
+      writer_.WriteImageFile(image.utime, image.encoded, image.encoding, image.width, image.height);
     });
   }
 
-  void Cloud(const rosbag::MessageInstance& m) {
-    if (m.getDataType() != kCloud) throw std::runtime_error("a " + m.getDataType() + " message, not a PointCloud2");
-    const auto msg = m.instantiate<sensor_msgs::PointCloud2>();
-    if (!msg) throw std::runtime_error("a PointCloud2 message that does not decode");
-    int dropped = 0;
-    PointCloud cloud = RosCloudToPointCloud(*msg, &dropped);
-    if (cloud.empty()) throw std::runtime_error("no finite point in " + std::to_string(dropped));
-    const int64_t utime = Stamp(msg->header.stamp, m);
-    ordered_.Push(utime, [this, cloud = std::move(cloud), utime] { writer_.WriteScan(utime, cloud); });
+  void Cloud(const BagMessage& m) {
+    if (KindOfType(m.type()) != RosMessageKind::kPointCloud2)
+      throw std::runtime_error("a " + m.type() + " message, not a PointCloud2");
+    SensorScan scan = frames_.Cloud(m.PointCloud2(), m.arrival_utime());
+    const int64_t utime = scan.utime;
+    ordered_.Push(utime, [this, scan = std::move(scan)] { writer_.WriteScan(scan.utime, scan.cloud); });
   }
 
-  int unstamped() const { return unstamped_; }
-  int sixteen_bit_shift() const { return scaler_.shift(); }
+  int unstamped() const { return frames_.unstamped(); }
+  int sixteen_bit_shift() const { return frames_.sixteen_bit_shift(); }
 
  private:
-  void CheckSize(const cv::Mat& image) const {
-    if (image.cols != camera_.width || image.rows != camera_.height)
-      throw std::runtime_error("image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-                               ", the camera model is " + std::to_string(camera_.width) + "x" +
-                               std::to_string(camera_.height));
-  }
-  // The header stamp (when the sensor measured), else the bag's arrival time.
-  int64_t Stamp(const ros::Time& stamp, const rosbag::MessageInstance& m) {
-    if (!stamp.isZero()) return RosStampToUtime(stamp);
-    ++unstamped_;
-    return RosStampToUtime(m.getTime());
-  }
-
-  const CameraParams& camera_;
+  RosSensorFrames frames_;
   ImportWriter& writer_;
   TimeOrderedWriter& ordered_;
-  SixteenBitScaler scaler_;
-  int unstamped_ = 0;
 };
+
+// Every image and cloud message converted and queued; an unusable one is skipped and counted.
+void ConvertMessages(BagSource& bag, const RosbagImportOptions& options, MessageConverter& converter,
+                     SkipTally& skipped, const ImportProgress& progress) {
+  uint64_t total = 0;
+  for (const BagTopic& topic : bag.topics())
+    if (topic.name == options.image_topic || topic.name == options.cloud_topic) total += topic.message_count;
+  int done = 0;
+  bag.ForEach({options.image_topic, options.cloud_topic}, [&](const BagMessage& m) {
+    try {
+      if (m.topic() == options.image_topic) converter.Image(m);
+      else converter.Cloud(m);
+    } catch (const std::exception& e) {
+      skipped.Add(m.topic(), e.what());
+    }
+    if (progress) progress(++done, static_cast<int>(total));
+    return true;
+  });
+}
+
+void AddWarnings(const BagSource& bag, const SkipTally& skipped, const MessageConverter& converter,
+                 ImportReport& report) {
+  skipped.Report(report);
+  for (const std::string& warning : bag.warnings()) report.warnings.push_back(warning);
+  if (converter.unstamped() > 0)
+    report.warnings.push_back(std::to_string(converter.unstamped()) +
+                              " message(s) had a zero header stamp; their bag time was used");
+  if (converter.sixteen_bit_shift() > 0)
+    report.warnings.push_back("16-bit images were scaled to 8 bits by 1/" +
+                              std::to_string(1 << converter.sixteen_bit_shift()) + " (from the first image)");
+}
 
 }  // namespace
 
@@ -216,8 +212,9 @@ ImportReport ImportRosbag(const std::string& bag_path, const std::string& out_lo
                           const RosbagImportOptions& options, const ImportProgress& progress) {
   const auto bag = OpenBag(bag_path);
   const TopicTypes topics = ListTopics(*bag);
-  RequireTopic(topics, options.image_topic, {kImage, kCompressedImage}, "image", bag_path);
-  RequireTopic(topics, options.cloud_topic, {kCloud}, "cloud", bag_path);
+  RequireTopic(*bag, topics, options.image_topic, {RosMessageKind::kImage, RosMessageKind::kCompressedImage},
+               "image", bag_path);
+  RequireTopic(*bag, topics, options.cloud_topic, {RosMessageKind::kPointCloud2}, "cloud", bag_path);
   const CameraParams camera = ReadCameraModel(*bag, topics, options, bag_path);
 
   ImportWriter writer(out_log);
@@ -226,27 +223,10 @@ ImportReport ImportRosbag(const std::string& bag_path, const std::string& out_lo
   });
   MessageConverter converter(camera, writer, ordered);
   SkipTally skipped;
-  rosbag::View view(*bag, rosbag::TopicQuery(std::vector<std::string>{options.image_topic, options.cloud_topic}));
-  const int total = static_cast<int>(view.size());
-  int done = 0;
-  for (const rosbag::MessageInstance& m : view) {
-    try {
-      if (m.getTopic() == options.image_topic) converter.Image(m);
-      else converter.Cloud(m);
-    } catch (const std::exception& e) {
-      skipped.Add(m.getTopic(), e.what());
-    }
-    if (progress) progress(++done, total);
-  }
+  ConvertMessages(*bag, options, converter, skipped, progress);
   ordered.Finish();
   ImportReport& report = writer.report();
-  skipped.Report(report);
-  if (converter.unstamped() > 0)
-    report.warnings.push_back(std::to_string(converter.unstamped()) +
-                              " message(s) had a zero header stamp; their bag time was used");
-  if (converter.sixteen_bit_shift() > 0)
-    report.warnings.push_back("16-bit images were scaled to 8 bits by 1/" +
-                              std::to_string(1 << converter.sixteen_bit_shift()) + " (from the first image)");
+  AddWarnings(*bag, skipped, converter, report);
   if (report.images == 0 || report.scans == 0)
     throw std::runtime_error(bag_path + ": " + std::to_string(report.images) + " images and " +
                              std::to_string(report.scans) + " scans could be read" +

@@ -1,0 +1,24 @@
+// ROS 2 names on DDS (the rmw convention): a topic /camera/image_raw is the DDS topic
+// rt/camera/image_raw, a type sensor_msgs/msg/Image is sensor_msgs::msg::dds_::Image_.
+#pragma once
+
+#include <string>
+
+namespace fusecal {
+
+struct Ros2TopicSeen {
+  std::string topic;  // ROS name when it is a ROS 2 topic ("/camera/image_raw"), else the DDS name
+  std::string type;   // ROS name when it is a ROS 2 type ("sensor_msgs/msg/Image"), else the DDS name
+};
+
+// "/camera/image_raw" or "camera/image_raw" -> "rt/camera/image_raw". Throws std::invalid_argument for
+// an empty name or one with characters ROS does not allow (letters, digits, '_' and '/').
+std::string RosTopicToDds(const std::string& ros_topic);
+// "rt/camera/image_raw" -> "/camera/image_raw"; any other DDS topic name is returned as it is.
+std::string DdsTopicToRos(const std::string& dds_topic);
+// "sensor_msgs::msg::dds_::Image_" -> "sensor_msgs/msg/Image"; any other type name as it is.
+std::string DdsTypeToRos(const std::string& dds_type);
+// "sensor_msgs/msg/Image" -> "sensor_msgs::msg::dds_::Image_".
+std::string RosTypeToDds(const std::string& ros_type);
+
+}  // namespace fusecal
