@@ -57,6 +57,21 @@ int FuzzOneScanBin(const uint8_t* data, size_t size);
 int FuzzOnePlyWithPose(const uint8_t* data, size_t size);
 int FuzzOneIshikawaMotions(const uint8_t* data, size_t size);
 
+// Texts users type or write by hand (entries_text.cpp): a bus URL (ParseBusUrl), a channel pattern and
+// channel names to match (first line the pattern), an extrinsic in an export format (first byte the
+// format), any YAML through the strict loader.
+int FuzzOneBusUrl(const uint8_t* data, size_t size);
+int FuzzOneChannelPattern(const uint8_t* data, size_t size);
+int FuzzOneExtrinsicText(const uint8_t* data, size_t size);
+int FuzzOneStrictYaml(const uint8_t* data, size_t size);
+
+// ROS 2 sensor messages in CDR (entries_ros_cdr.cpp): the first byte chooses PointCloud2, Image,
+// CompressedImage or CameraInfo; decoded and converted as `fusecal import rosbag` does.
+int FuzzOneRosCdr(const uint8_t* data, size_t size);
+
+// ROS 2 bags (entries_rosbag2.cpp): an MCAP file, scanned and every message read in log-time order.
+int FuzzOneMcap(const uint8_t* data, size_t size);
+
 // The motions CSV of `fusecal handeye --motions` (entries_motion_csv.cpp).
 int FuzzOneMotionCsv(const uint8_t* data, size_t size);
 

@@ -50,7 +50,13 @@ const std::map<std::string, Entry>& Entries() {
       {"scan_bin", FuzzOneScanBin},
       {"ply_with_pose", FuzzOnePlyWithPose},
       {"ishikawa_motions", FuzzOneIshikawaMotions},
+      {"mcap", FuzzOneMcap},
       {"motion_csv", FuzzOneMotionCsv},
+      {"ros_cdr", FuzzOneRosCdr},
+      {"bus_url", FuzzOneBusUrl},
+      {"channel_pattern", FuzzOneChannelPattern},
+      {"extrinsic_text", FuzzOneExtrinsicText},
+      {"strict_yaml", FuzzOneStrictYaml},
   };
   return entries;
 }

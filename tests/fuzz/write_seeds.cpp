@@ -1,12 +1,14 @@
 // Writes the generated seeds of the fuzz corpus (tests/fuzz/corpus/<target>/) from real data: one or two
-// messages of each lcmtype, small LCM logs, DDS samples of fusecal::lcm_message, result and camera files
-// and scans as the writers produce them. The other seeds (configs, KITTI-format text, ascii PCD/PLY, CSV)
-// are kept as written by hand. Usage: fuzz_write_seeds CORPUS_DIR
+// messages of each lcmtype, small LCM logs, DDS samples of fusecal::lcm_message, ROS 2 sensor messages in
+// CDR, result and camera files, scans and MCAP files as the writers produce them. The other seeds (configs,
+// KITTI-format text, ascii PCD/PLY, CSV) are kept as written by hand. Usage: fuzz_write_seeds CORPUS_DIR
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
@@ -22,6 +24,8 @@
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
 #include "scan_io/scan_io.hpp"
+#include "support/cdr_writer.hpp"
+#include "support/mcap_test_writer.hpp"
 #ifdef FUSECAL_WITH_DDS
 #include "dds/ddsi/ddsi_cdrstream.h"
 #include "fusecal_bytes.h"
@@ -237,6 +241,91 @@ void WriteFileSeeds() {
   WriteScanSeed("ply_with_pose", "binary.ply", SmallCloud(false));
 }
 
+// ROS 2 sensor messages in CDR behind the byte that chooses their type (entries_ros_cdr.cpp).
+template <typename M>
+void WriteRosCdrSeed(uint8_t selector, const std::string& name, const M& msg, testing_utils::CdrByteOrder order) {
+  std::vector<uint8_t> bytes = {selector};
+  const std::vector<uint8_t> cdr = testing_utils::EncodeCdr(msg, order);
+  bytes.insert(bytes.end(), cdr.begin(), cdr.end());
+  WriteBytes("ros_cdr", name, bytes);
+}
+
+RosPointCloud2 RosCloud() {
+  RosPointCloud2 msg;
+  msg.header = RosHeader{RosTime{1700000000, 5000}, "velodyne"};
+  msg.height = 1;
+  msg.width = 3;
+  msg.fields = {{"x", 0, RosPointField::FLOAT32, 1}, {"y", 4, RosPointField::FLOAT32, 1},
+                {"z", 8, RosPointField::FLOAT32, 1}, {"intensity", 12, RosPointField::FLOAT32, 1},
+                {"ring", 16, RosPointField::UINT16, 1}};
+  msg.point_step = 18;
+  msg.row_step = 54;
+  const PointCloud cloud = SmallCloud(true);
+  msg.data.assign(54, 0);
+  for (int i = 0; i < 3; ++i) {
+    std::memcpy(&msg.data[18 * i], cloud.points[i].data(), 12);
+    std::memcpy(&msg.data[18 * i + 12], &cloud.intensity[i], 4);
+  }
+  return msg;
+}
+
+void WriteRosCdrSeeds() {
+  using testing_utils::CdrByteOrder;
+  WriteRosCdrSeed(0, "cloud_le", RosCloud(), CdrByteOrder::kLittle);
+  WriteRosCdrSeed(0, "cloud_be", RosCloud(), CdrByteOrder::kBig);
+  const cv::Mat grey = SmallImage(CV_8UC1);
+  RosImage image;
+  image.header = RosHeader{RosTime{1700000000, 0}, "camera"};
+  image.height = static_cast<uint32_t>(grey.rows);
+  image.width = static_cast<uint32_t>(grey.cols);
+  image.encoding = "mono8";
+  image.step = image.width;
+  image.data.assign(grey.data, grey.data + grey.total());
+  WriteRosCdrSeed(1, "image_mono8_le", image, CdrByteOrder::kLittle);
+  image.encoding = "mono16";
+  image.width /= 2;
+  image.is_bigendian = 1;
+  WriteRosCdrSeed(1, "image_mono16_be", image, CdrByteOrder::kBig);
+  RosCompressedImage compressed;
+  compressed.header = image.header;
+  compressed.format = "mono8; png compressed";
+  cv::imencode(".png", grey, compressed.data);
+  WriteRosCdrSeed(2, "compressed_png", compressed, CdrByteOrder::kLittle);
+  RosCameraInfo info;
+  info.header = image.header;
+  info.height = 48;
+  info.width = 64;
+  info.distortion_model = "plumb_bob";
+  info.D = {-0.1, 0.01, 0, 0, 0};
+  info.K = {50, 0, 32, 0, 50, 24, 0, 0, 1};
+  WriteRosCdrSeed(3, "camera_info_le", info, CdrByteOrder::kLittle);
+  info.distortion_model = "equidistant";
+  info.D = {0.02, -0.006, 0.0009, -0.0002};
+  WriteRosCdrSeed(3, "camera_info_equidistant_be", info, CdrByteOrder::kBig);
+}
+
+// MCAP files as the tests' writer makes them (entries_rosbag2.cpp): each compression, chunked or not, with
+// and without summary, and one cut short in a chunk. Small messages keep each under 16 kB.
+void WriteMcapSeeds() {
+  const std::vector<testing::BagTopic> topics = {{"/camera/image_raw", "sensor_msgs/msg/Image"},
+                                                 {"/lidar/points", "sensor_msgs/msg/PointCloud2"}};
+  std::vector<testing::BagMessage> messages;
+  for (int i = 0; i < 9; ++i) {
+    testing::BagMessage m;
+    m.topic = i % 2;
+    m.log_time_ns = 1'700'000'000'000'000'000 + (i == 4 ? 2 : i) * 10'000'000;  // one written late
+    m.data.assign(40 + 13 * i, static_cast<uint8_t>(i));
+    messages.push_back(m);
+  }
+  WriteBytes("mcap", "zstd_summary.mcap", testing::WriteMcap(topics, messages, {"zstd", true, 3, true}).bytes);
+  WriteBytes("mcap", "lz4_no_summary.mcap", testing::WriteMcap(topics, messages, {"lz4", true, 4, false}).bytes);
+  WriteBytes("mcap", "uncompressed_chunks.mcap", testing::WriteMcap(topics, messages, {"", true, 2, true}).bytes);
+  WriteBytes("mcap", "unchunked.mcap", testing::WriteMcap(topics, messages, {"", false, 0, true}).bytes);
+  testing::McapTestFile cut = testing::WriteMcap(topics, messages, {"zstd", true, 3, false});
+  cut.bytes.resize(cut.chunk_offsets.back() + 40);
+  WriteBytes("mcap", "cut_short.mcap", cut.bytes);
+}
+
 #ifdef FUSECAL_WITH_DDS
 // A fusecal::lcm_message sample as DdsBus writes it, serialized with its encapsulation header.
 std::vector<uint8_t> DdsSample(const std::vector<uint8_t>& lcm, uint32_t xcdr_version, bool big_endian) {
@@ -284,5 +373,7 @@ int main(int argc, char** argv) {
   fusecal::WriteLogSeeds();
   fusecal::WriteFileSeeds();
   fusecal::WriteDdsSeeds();
+  fusecal::WriteRosCdrSeeds();
+  fusecal::WriteMcapSeeds();
   return 0;
 }

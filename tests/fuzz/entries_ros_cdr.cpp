@@ -1,0 +1,38 @@
+// Fuzz entry of ROS 2 sensor messages in CDR (fuzz_entries.hpp), as a ROS 2 bag or DDS hands them over:
+// decoded (formats/ros_cdr.hpp), then converted as `fusecal import rosbag` converts them.
+#include "formats/ros_cdr.hpp"
+#include "formats/ros_sensor_conversions.hpp"
+#include "fuzz_entries.hpp"
+#include "fuzz_support.hpp"
+
+namespace fusecal::fuzz {
+
+// The first byte chooses the message type (its value modulo 4: PointCloud2, Image, CompressedImage,
+// CameraInfo); the rest is the serialized message with its encapsulation header.
+int FuzzOneRosCdr(const uint8_t* data, size_t size) {
+  if (size == 0) return 0;
+  const uint8_t* message = data + 1;
+  const size_t length = size - 1;
+  switch (data[0] % 4) {
+    case 0:
+      IgnoringRejection([&] { RosCloudToPointCloud(DecodeCdrPointCloud2(message, length)); });
+      break;
+    case 1:
+      IgnoringRejection([&] {
+        SixteenBitScaler scaler;
+        RosImageToMat(DecodeCdrImage(message, length), scaler);
+      });
+      break;
+    case 2:
+      IgnoringRejection([&] {
+        cv::Mat decoded;
+        RosCompressedFormat(DecodeCdrCompressedImage(message, length), &decoded);
+      });
+      break;
+    default:
+      IgnoringRejection([&] { RosCameraInfoToParams(DecodeCdrCameraInfo(message, length)); });
+  }
+  return 0;
+}
+
+}  // namespace fusecal::fuzz
