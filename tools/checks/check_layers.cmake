@@ -8,7 +8,8 @@
 #   stages/formats/           foundation/ runtime/ fusecal/ formats/
 #   stages/<stage>/ (core)    foundation/ <stage>/                      (no LCM, no PCL, no bus)
 #   stages/node_kit/          foundation/ runtime/ fusecal/ formats/ node_kit/
-#   stages/<stage>/node/      foundation/ runtime/ fusecal/ formats/ node_kit/ <stage>/
+#   stages/ros2_dds/          foundation/ runtime/ fusecal/ formats/ ros2_dds/   (the ROS 2 nodes' DDS side)
+#   stages/<stage>/node/      foundation/ runtime/ fusecal/ formats/ node_kit/ ros2_dds/ <stage>/
 #   tools/io/                 foundation/ runtime/ fusecal/ formats/ importers/ scan_io/ visualization/
 #                             (PCL only in tools/io/scan_io/*.cpp)
 #   tools/sim/                foundation/ runtime/ simulator/           (no LCM, no PCL)
@@ -20,9 +21,9 @@ if(NOT SOURCE_DIR)
   message(FATAL_ERROR "check_layers: pass -DSOURCE_DIR=<source tree>")
 endif()
 
-set(stage_names handeye lidar_icp camera_frontend fusion_odometry stationarity ros2_tf)
+set(stage_names handeye lidar_icp camera_frontend fusion_odometry stationarity ros2_tf ros2_input)
 set(io_prefixes importers scan_io visualization)
-set(project_prefixes foundation formats node_kit runtime fusecal pipeline simulator ${io_prefixes} tools support
+set(project_prefixes foundation formats node_kit ros2_dds runtime fusecal pipeline simulator ${io_prefixes} tools support
                      ${stage_names})
 
 # Sets ${out} to the allowed prefixes of `file` (relative path).
@@ -35,8 +36,10 @@ function(allowed_prefixes file out)
     set(allowed foundation runtime fusecal formats)
   elseif(file MATCHES "^stages/node_kit/")
     set(allowed foundation runtime fusecal formats node_kit)
+  elseif(file MATCHES "^stages/ros2_dds/")
+    set(allowed foundation runtime fusecal formats ros2_dds)
   elseif(file MATCHES "^stages/([a-z0-9_]+)/node/")
-    set(allowed foundation runtime fusecal formats node_kit ${CMAKE_MATCH_1})
+    set(allowed foundation runtime fusecal formats node_kit ros2_dds ${CMAKE_MATCH_1})
   elseif(file MATCHES "^stages/([a-z0-9_]+)/")
     set(allowed foundation ${CMAKE_MATCH_1})
   elseif(file MATCHES "^tools/io/")
@@ -51,7 +54,7 @@ endfunction()
 
 # System headers a layer must not see: the cores are tested without a bus, and PCL is slow to build.
 function(forbidden_system_headers file out)
-  if(file MATCHES "^stages/(foundation|formats|node_kit)/")
+  if(file MATCHES "^stages/(foundation|formats|node_kit|ros2_dds)/")
     set(banned pcl/)
   elseif(file MATCHES "^stages/[a-z0-9_]+/node/")
     set(banned pcl/)

@@ -6,32 +6,24 @@
 
 #include "dds/dds.h"
 #include "formats/conversions.hpp"
+#include "ros2_dds/ros2_domain.hpp"
 #include "ros2_messages.h"
 #include "runtime/channels.hpp"
 
 namespace fusecal {
 
-namespace {
-
-std::string DdsError(dds_return_t code) { return dds_strretcode(code); }
-
-}  // namespace
-
 Ros2TfNode::Ros2TfNode(const Ros2TfSettings& settings) : settings_(settings) {
-  participant_ = dds_create_participant(static_cast<dds_domainid_t>(settings_.domain), nullptr, nullptr);
-  if (participant_ < 0)
-    throw std::runtime_error("ros2_tf: cannot join DDS domain " + std::to_string(settings_.domain) + ": " +
-                             DdsError(participant_));
+  participant_ = JoinRos2Domain(settings_.domain, 4 << 20);
   const dds_entity_t topic =
       dds_create_topic(participant_, &tf2_msgs_msg_dds__TFMessage__desc, "rt/tf_static", nullptr, nullptr);
-  if (topic < 0) throw std::runtime_error("ros2_tf: cannot create topic rt/tf_static: " + DdsError(topic));
+  if (topic < 0) throw std::runtime_error("ros2_tf: cannot create topic rt/tf_static: " + DdsErrorText(topic));
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
   dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
   dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
   writer_ = dds_create_writer(participant_, topic, qos, nullptr);
   dds_delete_qos(qos);
-  if (writer_ < 0) throw std::runtime_error("ros2_tf: cannot create the rt/tf_static writer: " + DdsError(writer_));
+  if (writer_ < 0) throw std::runtime_error("ros2_tf: cannot create the rt/tf_static writer: " + DdsErrorText(writer_));
 }
 
 Ros2TfNode::~Ros2TfNode() {
@@ -49,18 +41,18 @@ void Ros2TfNode::OnExtrinsic(const extrinsic_t& e) {
   const Isometry3 T = FromRowMajor(e.T_camera_lidar);
   const Eigen::Quaterniond q(T.linear());
   geometry_msgs_msg_dds__TransformStamped_ transform{};
-  transform.header.stamp.sec = static_cast<int32_t>(e.utime / 1000000);
-  transform.header.stamp.nanosec = static_cast<uint32_t>((e.utime % 1000000) * 1000);
-  transform.header.frame_id = const_cast<char*>(settings_.parent_frame.c_str());
-  transform.child_frame_id = const_cast<char*>(settings_.child_frame.c_str());
-  transform.transform.translation = {T.translation().x(), T.translation().y(), T.translation().z()};
-  transform.transform.rotation = {q.x(), q.y(), q.z(), q.w()};
+  transform.header_.stamp_.sec_ = static_cast<int32_t>(e.utime / 1000000);
+  transform.header_.stamp_.nanosec_ = static_cast<uint32_t>((e.utime % 1000000) * 1000);
+  transform.header_.frame_id_ = const_cast<char*>(settings_.parent_frame.c_str());
+  transform.child_frame_id_ = const_cast<char*>(settings_.child_frame.c_str());
+  transform.transform_.translation_ = {T.translation().x(), T.translation().y(), T.translation().z()};
+  transform.transform_.rotation_ = {q.x(), q.y(), q.z(), q.w()};
   tf2_msgs_msg_dds__TFMessage_ message{};
-  message.transforms._maximum = message.transforms._length = 1;
-  message.transforms._buffer = &transform;
-  message.transforms._release = false;
+  message.transforms_._maximum = message.transforms_._length = 1;
+  message.transforms_._buffer = &transform;
+  message.transforms_._release = false;
   if (const dds_return_t rc = dds_write(writer_, &message); rc < 0)
-    throw std::runtime_error("ros2_tf: writing rt/tf_static failed: " + DdsError(rc));
+    throw std::runtime_error("ros2_tf: writing rt/tf_static failed: " + DdsErrorText(rc));
   last_version_ = e.version;
   ++published_;
 }

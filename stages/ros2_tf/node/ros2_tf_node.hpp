@@ -1,7 +1,7 @@
 // fusecal-ros2-tf: ROS 2 without ROS. Every EXTRINSIC becomes a tf2_msgs/TFMessage on the DDS topic
 // `rt/tf_static` (reliable, transient local, depth 1, as tf2_ros's static broadcaster does), so a ROS 2
 // system on the same domain sees parent_frame -> child_frame (T_camera_lidar) with no bridge. The types
-// are generated from ros2_messages.idl by Cyclone's idlc.
+// are generated from stages/ros2_dds/ros2_messages.idl (rosidl's form) by Cyclone's idlc.
 #pragma once
 
 #include <memory>

@@ -87,17 +87,17 @@ TEST(Ros2Tf, AStaticTransformReachesARos2ReaderWithTheConfiguredFrames) {
   const std::string output((std::istreambuf_iterator<char>(in)), {});
   ASSERT_EQ(taken, 1) << "no TFMessage on rt/tf_static in domain " << kDomain << "\n" << output;
   const auto* message = static_cast<const tf2_msgs_msg_dds__TFMessage_*>(samples[0]);
-  ASSERT_EQ(message->transforms._length, 1u);
-  const auto& t = message->transforms._buffer[0];
-  EXPECT_STREQ(t.header.frame_id, "cam_front");
-  EXPECT_STREQ(t.child_frame_id, "velo_top");
-  EXPECT_EQ(t.header.stamp.sec, 1700000001);
-  EXPECT_EQ(t.header.stamp.nanosec, 500000000u);
-  EXPECT_NEAR(t.transform.translation.x, 0.1, 1e-12);
-  EXPECT_NEAR(t.transform.translation.y, -0.2, 1e-12);
-  EXPECT_NEAR(t.transform.translation.z, 0.3, 1e-12);
-  const Eigen::Quaterniond q(t.transform.rotation.w, t.transform.rotation.x, t.transform.rotation.y,
-                             t.transform.rotation.z);
+  ASSERT_EQ(message->transforms_._length, 1u);
+  const auto& t = message->transforms_._buffer[0];
+  EXPECT_STREQ(t.header_.frame_id_, "cam_front");
+  EXPECT_STREQ(t.child_frame_id_, "velo_top");
+  EXPECT_EQ(t.header_.stamp_.sec_, 1700000001);
+  EXPECT_EQ(t.header_.stamp_.nanosec_, 500000000u);
+  EXPECT_NEAR(t.transform_.translation_.x_, 0.1, 1e-12);
+  EXPECT_NEAR(t.transform_.translation_.y_, -0.2, 1e-12);
+  EXPECT_NEAR(t.transform_.translation_.z_, 0.3, 1e-12);
+  const Eigen::Quaterniond q(t.transform_.rotation_.w_, t.transform_.rotation_.x_, t.transform_.rotation_.y_,
+                             t.transform_.rotation_.z_);
   EXPECT_LT(RotationErrorDeg(q.toRotationMatrix(), X.linear()), 1e-9);
   dds_return_loan(reader, samples, taken);
   dds_delete(participant);

@@ -15,6 +15,18 @@ namespace fusecal {
 namespace {
 std::atomic<bool> g_stop{false};
 void OnSignal(int) { g_stop = true; }
+
+// What is wrong with the combination of flags (empty: nothing).
+std::string ProblemWithOptions(const RunOptions& options) {
+  if (!std::isfinite(options.speed))
+    return "--speed must be a finite number >= 0 (0: as fast as the stages go), not " + std::to_string(options.speed);
+  if (options.ros2 && !options.log_path.empty())
+    return "--ros2 takes the sensors from a running ROS 2 robot; it cannot be given --log (import a ROS 2 bag "
+           "with `fusecal import rosbag` and give that log instead)";
+  if (options.live && (options.log_path.empty() || options.speed <= 0))
+    return "--live plays a log at recorded time: give --log and a --speed above 0";
+  return {};
+}
 }  // namespace
 
 void AddRunCommand(CLI::App& app, int* exit_code) {
@@ -30,15 +42,17 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
   cmd->add_flag("--live", options.live,
                 "play the log at recorded time (x speed) without waiting for the stages, as sensors do; "
                 "writes latency.csv");
+  cmd->add_flag("--ros2", options.ros2,
+                "calibrate a running ROS 2 robot: its sensor topics (config section ros2_input) in, the "
+                "extrinsic out on rt/tf_static and in extrinsic.yaml at each converged version, until Ctrl-C");
   cmd->add_option("--bus", options.bus_url, "bus URL (default: the config's)");
   auto* stages_option = cmd->add_option("--stages", stages,
                   "start only these stages, e.g. fusion_odometry,handeye; the others run on other hosts on the "
                   "same bus (without --log: ends when the host playing the log is done)");
   cmd->add_option("--out", options.out_dir, "output folder")->required();
   cmd->callback([exit_code, stages_option] {
-    if (!std::isfinite(options.speed)) {
-      std::cerr << "fusecal run: --speed must be a finite number >= 0 (0: as fast as the stages go), not "
-                << options.speed << "\n";
+    if (const std::string problem = ProblemWithOptions(options); !problem.empty()) {
+      std::cerr << "fusecal run: " << problem << "\n";
       *exit_code = 2;
       return;
     }
@@ -46,11 +60,6 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
       if (stages_option->count() > 0) options.stages = ParseStageList(stages);  // '' is "no stage listed"
     } catch (const std::invalid_argument& e) {
       std::cerr << "fusecal run: --stages: " << e.what() << "\n";
-      *exit_code = 2;
-      return;
-    }
-    if (options.live && (options.log_path.empty() || options.speed <= 0)) {
-      std::cerr << "fusecal run: --live plays a log at recorded time: give --log and a --speed above 0\n";
       *exit_code = 2;
       return;
     }
@@ -86,6 +95,10 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
       if (report.bus_counts_losses) std::cout << "; messages lost by the bus: " << report.bus_dropped;
       std::cout << "\n" << StageTableText(report.stage_counters, report.span_s) << LatencyText(report.latencies);
       *exit_code = FinalConverged(report.outputs) ? 0 : 1;
+      if (!report.failure.empty()) {
+        std::cerr << "fusecal run: " << report.failure << "\n";
+        *exit_code = 1;
+      }
     } catch (const std::exception& e) {
       std::cerr << "\nfusecal run: " << e.what() << "\n";
       *exit_code = 1;

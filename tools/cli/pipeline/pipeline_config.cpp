@@ -29,6 +29,7 @@ PipelineConfig LoadPipelineConfig(const std::string& path) {
   c.fusion_odometry = ReadFusionOdometryNodeSettings(root.Child("fusion_odometry"));
   c.handeye = ReadHandEyeNodeSettings(root.Child("handeye"));
   c.ros2_tf = ReadRos2TfSettings(root.Child("ros2_tf"));
+  c.ros2_input = ReadRos2InputSettings(root.Child("ros2_input"));
   ConfigReader run = root.Child("run");
   run.Get("idle_timeout_s", &c.idle_timeout_s, Positive<double>());
   run.Finish();

@@ -6,6 +6,7 @@
 #include "camera_frontend/node/camera_frontend_node.hpp"
 #include "fusion_odometry/node/fusion_odometry_node.hpp"
 #include "handeye/node/handeye_node.hpp"
+#include "ros2_input/node/ros2_input_settings.hpp"
 #include "ros2_tf/node/ros2_tf_settings.hpp"
 #include "lidar_icp/node/lidar_icp_node.hpp"
 #include "stationarity/node/stationarity_node.hpp"
@@ -25,6 +26,7 @@ struct PipelineConfig {
   FusionOdometryNodeSettings fusion_odometry;
   HandEyeNodeSettings handeye;
   Ros2TfSettings ros2_tf;
+  Ros2InputSettings ros2_input;  // `fusecal run --ros2`
   double idle_timeout_s = 60;
 };
 

@@ -16,6 +16,7 @@
 #include "runtime/lcm_log.hpp"
 #include "runtime/stage_main.hpp"
 #include "formats/extrinsic_status.hpp"
+#include "formats/result_file.hpp"
 
 namespace fusecal {
 
@@ -88,7 +89,8 @@ class PipelineRun {
         bus_(MakeBus(transport_.coordinator_url())),
         session_(*bus_, options.out_dir + "/session.lcmlog", true),
         watch_(*bus_),
-        split_(SplitStages(PipelineStageNames(use_detector_, config.ros2_tf.enabled), options.stages)),
+        split_(SplitStages(PipelineStageNames(use_detector_, config.ros2_tf.enabled || options.ros2, options.ros2),
+                           options.stages)),
         supervisor_(options.out_dir) {}
 
   RunReport Run() {
@@ -100,6 +102,8 @@ class PipelineRun {
     report_.startup_seconds = Seconds(start);
     if (player_) {
       ReplayLog();
+    } else if (options_.ros2) {
+      ListenToRos2();
     } else {
       event_("listening to live sensors on " + url_ + " (Ctrl-C to stop" +
              (options_.stages.empty() ? ")" : "; ends when the host playing the log is done)"));
@@ -136,6 +140,41 @@ class PipelineRun {
              transport_.stage_url() + " by fusecal-bus-bridge");
     }
     supervisor_.StartAll();
+  }
+
+  // A live ROS 2 robot until Ctrl-C; the result file follows every converged version. Ends by itself
+  // when fusecal-ros2-input says its topics did not appear (its STATUS "no_input", the reason as its error).
+  void ListenToRos2() {
+    const auto& in = config_.ros2_input;
+    event_("calibrating from ROS 2 domain " + std::to_string(in.domain) + ": " + in.image_topic + ", " +
+           in.cloud_topic + (in.camera_file.empty() ? ", " + in.CameraInfoTopic() : ", camera " + in.camera_file) +
+           "; the extrinsic goes to rt/tf_static (domain " + std::to_string(config_.ros2_tf.domain) +
+           ") and " + options_.out_dir + "/extrinsic.yaml (Ctrl-C to stop)");
+    if (config_.ros2_tf.domain != in.domain)
+      event_("note: ros2_tf.domain (" + std::to_string(config_.ros2_tf.domain) + ") differs from ros2_input.domain (" +
+             std::to_string(in.domain) + ")");
+    const auto listen_start = Clock::now();
+    Pump(1e9, [&] {
+      WriteConvergedResult();
+      const auto state = session_.stage_states().find("ros2_input");
+      if (state == session_.stage_states().end() || state->second.first != "no_input") return false;
+      report_.failure = "fusecal-ros2-input: " + state->second.second;
+      return true;
+    });
+    report_.listen_seconds = Seconds(listen_start);
+  }
+
+  // extrinsic.yaml for each new converged version, so that a long session always has its latest answer.
+  void WriteConvergedResult() {
+    const extrinsic_t* e = session_.Final();
+    if (!e || e->version == written_version_ || e->status != extrinsic_t::STATUS_CONVERGED) return;
+    written_version_ = e->version;
+    try {
+      WriteResultFile(options_.out_dir + "/extrinsic.yaml", ResultFromMessage(*e));
+      event_("version " + std::to_string(e->version) + " converged: written to " + options_.out_dir + "/extrinsic.yaml");
+    } catch (const std::exception& error) {
+      event_(std::string("cannot write the result: ") + error.what());
+    }
   }
 
   bool AllAlive(const std::vector<std::string>& names) const {
@@ -363,6 +402,7 @@ class PipelineRun {
   static constexpr std::chrono::seconds kResupplyWait{5};
   std::string last_progress_;
   int stations_published_ = 0;
+  int written_version_ = -1;  // ros2: the last converged version written to extrinsic.yaml
   Clock::time_point replay_start_, last_player_status_;
   int64_t replay_start_wall_utime_ = 0;
   int64_t first_utime_ = -1, last_utime_ = -1;  // of the events played

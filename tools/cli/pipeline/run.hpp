@@ -5,6 +5,7 @@
 //
 // Replay is paced by the pipeline: after each station the player waits until the stages have answered
 // it (motions, and the alternation settled), so a replay computes exactly what `calibrate` computes.
+// Without a log, `ros2` listens to a running ROS 2 robot (RunOptions::ros2).
 // Live replay (`live`) plays the log at recorded time (x speed) and never waits, as sensors do: stages
 // that fall behind meet their overload policy (docs/design.md section 5), and the latency of the answer
 // per station is measured (latency.csv).
@@ -36,6 +37,10 @@ struct RunOptions {
   std::string bus_url;    // empty: the config's
   std::string out_dir;
   std::vector<std::string> stages;  // the stages started here (`--stages`); empty: all
+  // A live ROS 2 robot: fusecal-ros2-input feeds the pipeline from ROS 2 topics (config section
+  // ros2_input), fusecal-ros2-tf publishes rt/tf_static, and the result file is written at each converged
+  // version. Ends on Ctrl-C, or with `failure` set when the topics do not appear.
+  bool ros2 = false;
 };
 
 struct RunReport {
@@ -52,6 +57,7 @@ struct RunReport {
   StageCounters stage_counters;  // each stage's last STATUS counters (busy_s, bus_dropped, ...; stages.csv)
   double span_s = 0;             // recording span played
   std::vector<StationLatency> latencies;  // live replay only (latency.csv)
+  std::string failure;  // why the run ended by itself without a result (a ROS 2 topic never came)
 };
 
 // `stop` is polled (Ctrl-C); `progress` gets status lines and `event` one-off messages (restarts).

@@ -13,15 +13,17 @@ bool Contains(const std::vector<std::string>& names, const std::string& name) {
 }  // namespace
 
 const std::vector<std::string>& KnownStageNames() {
-  static const std::vector<std::string> names = {"stationarity",    "lidar_icp", "camera_frontend",
-                                                 "fusion_odometry", "handeye",   "ros2_tf"};
+  static const std::vector<std::string> names = {"ros2_input",      "stationarity", "lidar_icp", "camera_frontend",
+                                                 "fusion_odometry", "handeye",      "ros2_tf"};
   return names;
 }
 
-std::vector<std::string> PipelineStageNames(bool with_stationarity, bool with_ros2_tf) {
+std::vector<std::string> PipelineStageNames(bool with_stationarity, bool with_ros2_tf, bool with_ros2_input) {
   std::vector<std::string> names;
   for (const auto& name : KnownStageNames())
-    if ((name != "stationarity" || with_stationarity) && (name != "ros2_tf" || with_ros2_tf)) names.push_back(name);
+    if ((name != "stationarity" || with_stationarity) && (name != "ros2_tf" || with_ros2_tf) &&
+        (name != "ros2_input" || with_ros2_input))
+      names.push_back(name);
   return names;
 }
 

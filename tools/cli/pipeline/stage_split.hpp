@@ -12,9 +12,9 @@ namespace fusecal {
 // (fusecal-<name with dashes>) and of their STATUS.
 const std::vector<std::string>& KnownStageNames();
 
-// The stages of one pipeline in start order: stationarity only when it makes the stations, ros2_tf
-// only when enabled.
-std::vector<std::string> PipelineStageNames(bool with_stationarity, bool with_ros2_tf);
+// The stages of one pipeline in start order: ros2_input only for a live ROS 2 robot, stationarity only
+// when it makes the stations, ros2_tf only when enabled.
+std::vector<std::string> PipelineStageNames(bool with_stationarity, bool with_ros2_tf, bool with_ros2_input = false);
 
 // "stationarity,lidar_icp" as names. Throws std::invalid_argument naming an unknown or repeated
 // stage (and listing the known ones), or for an empty list.

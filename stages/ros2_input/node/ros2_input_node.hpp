@@ -1,0 +1,63 @@
+// fusecal-ros2-input: a running ROS 2 robot's sensor topics into the pipeline. Cyclone DDS readers of
+// the configured topics (DDS names rt/<topic>, types sensor_msgs::msg::dds_::Image_ and so on, in
+// rosidl's form) take each sample as serialized CDR; the core (ros2_sensor_input.hpp) decodes and
+// converts it as `fusecal import rosbag` does; CAMERA_INFO, CAMERA_IMAGE and LIDAR_SCAN go out on the bus
+// with the header stamps.
+//
+// QoS: best effort, volatile, keep last `depth`. A best-effort reader matches both reliable publishers
+// and best-effort (sensor data) ones. The socket receive buffer is asked to hold 6 of the largest
+// messages (`max_message_mb`; the kernel's net.core.rmem_max caps it, `fusecal doctor` checks).
+// A topic that has had no message `topic_timeout_s` after the start is an error that lists the topics
+// and types seen on the domain (DDS discovery); STATUS then says "no_input".
+#pragma once
+
+#include <dds/dds.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ros2_input/node/ros2_input_settings.hpp"
+#include "ros2_input/node/ros2_sensor_input.hpp"
+#include "runtime/stage_main.hpp"
+
+namespace fusecal {
+
+class Ros2Discovery;
+
+class Ros2InputNode : public StageNode {
+ public:
+  // Throws std::runtime_error when the domain, topics or readers cannot be made, or the camera file
+  // cannot be read.
+  explicit Ros2InputNode(const Ros2InputSettings& settings);
+  ~Ros2InputNode() override;
+  void Start(Bus& bus) override;
+  void Tick(Bus& bus, int64_t now_utime) override;
+  StageStatus Status() const override;
+
+ private:
+  struct Reader {
+    Ros2SensorTopic kind;
+    std::string topic;  // ROS name
+    dds_entity_t reader = 0;
+    double latency_sum_s = 0, latency_max_s = 0;  // DDS source timestamp to here
+    long latency_count = 0;
+    bool warned = false;  // the first malformed message was reported
+  };
+  void TakeAll(Bus& bus, Reader& reader, int64_t now_utime);
+  void Publish(Bus& bus, const Ros2InputFrame& frame);
+  void CheckTopicsArrived(int64_t now_utime);
+  std::string MissingTopicsMessage(const std::vector<const Reader*>& missing) const;
+
+  Ros2InputSettings settings_;
+  std::unique_ptr<Ros2SensorInput> input_;
+  dds_entity_t participant_ = 0;
+  std::unique_ptr<Ros2Discovery> discovery_;
+  std::vector<Reader> readers_;
+  std::vector<uint8_t> buffer_;  // one serialized sample, reused
+  int64_t start_utime_ = 0, last_camera_info_utime_ = 0;
+  bool no_input_ = false;
+  long published_images_ = 0, published_scans_ = 0;
+};
+
+}  // namespace fusecal

@@ -1,0 +1,152 @@
+// `fusecal run --ros2` against a ROS 2 robot played by a peer of another DDS stack or of Cyclone with
+// rosidl's types: a simulated recording (tiny-pinhole) published as sensor_msgs topics at recorded pace
+// gives the extrinsic `fusecal calibrate` gives on the same log (same stations, so within 1e-6), and a
+// reader of rt/tf_static that joins late gets it. Without the sensor topics the run ends with the list of
+// what the domain has, exit 1.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/stat.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <thread>
+
+#include "formats/result_file.hpp"
+#include "support/process_utils.hpp"
+
+namespace fusecal {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_utils::ReadAll;
+using testing_utils::RunCommand;
+using testing_utils::StartInBackground;
+
+const std::string kFusecal = FUSECAL_BIN;
+
+std::string Dir() { return ::testing::TempDir() + "fusecal_ros2_live_" + std::to_string(getpid()); }
+
+// The recording and what `calibrate` makes of it, once for the suite.
+class Ros2Live : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    fs::create_directories(Dir());
+    log_ = Dir() + "/tiny.lcmlog";
+    ASSERT_EQ(RunCommand(kFusecal + " simulate --scenario " + SCENARIO_DIR "/tiny-pinhole.yaml --out " + log_ +
+                         " > /dev/null 2>&1").exit_code, 0);
+    const auto calibrated = RunCommand(kFusecal + " calibrate --log " + log_ + " --out " + Dir() + "/ref 2>&1");
+    ASSERT_EQ(calibrated.exit_code, 0) << calibrated.output;
+    reference_ = ReadResultFile(Dir() + "/ref/extrinsic.yaml");
+  }
+
+  // The pipeline config with this test's DDS domain for ROS 2 (sensors and tf).
+  static std::string Config(int domain, double topic_timeout_s, const std::string& image_topic = "/camera/image_raw") {
+    std::string text = ReadAll(PIPELINE_CONFIG);
+    text = std::regex_replace(text, std::regex("(ros2_tf:\\n  enabled: false\\n  domain:) 0"), "$1 " + std::to_string(domain));
+    text = std::regex_replace(text, std::regex("(ros2_input:\\n  domain:) 0"), "$1 " + std::to_string(domain));
+    text = std::regex_replace(text, std::regex("topic_timeout_s: 15"), "topic_timeout_s: " + std::to_string(topic_timeout_s));
+    text = std::regex_replace(text, std::regex("image_topic: /camera/image_raw"), "image_topic: " + image_topic);
+    const std::string path = Dir() + "/config_" + std::to_string(domain) + ".yaml";
+    std::ofstream(path) << text;
+    return path;
+  }
+
+  // LCM on a port of its own, so that tests running at the same time do not meet.
+  static std::string Bus(int domain) {
+    return "'udpm://239.255.76.67:" + std::to_string(7700 + domain) + "?ttl=0&recv_buf_size=67108864'";
+  }
+
+  // Until `path` has not grown for `quiet_s` (the pipeline has settled), at most `max_s`.
+  static void WaitQuiet(const std::string& path, double quiet_s, double max_s) {
+    using Clock = std::chrono::steady_clock;
+    const auto end = Clock::now() + std::chrono::duration<double>(max_s);
+    auto last_change = Clock::now();
+    uintmax_t last_size = 0;
+    while (Clock::now() < end && Clock::now() - last_change < std::chrono::duration<double>(quiet_s)) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      std::error_code error;
+      const uintmax_t size = fs::file_size(path, error);
+      if (!error && size != last_size) last_size = size, last_change = Clock::now();
+    }
+  }
+
+  // Plays the recording through `peer` (its `play` and `tf-listen` commands) into `fusecal run --ros2`.
+  void CalibrateLive(const std::string& peer, int domain, const std::string& play_flags,
+                     const std::string& image_topic = "/camera/image_raw") {
+    const std::string out = Dir() + "/live_" + std::to_string(domain), run_log = out + ".log";
+    fs::remove_all(out);
+    const pid_t run = StartInBackground(kFusecal + " run --ros2 --config " + Config(domain, 30, image_topic) + " --bus " +
+                                        Bus(domain) + " --out " + out, run_log);
+    ASSERT_GT(run, 0);
+    const auto played = RunCommand(peer + " play " + log_ + " --domain " + std::to_string(domain) + " " +
+                                   play_flags + " 2>&1");
+    EXPECT_EQ(played.exit_code, 0) << played.output << ReadAll(run_log);
+    WaitQuiet(run_log, 3, 30);
+    const auto tf = RunCommand(peer + " tf-listen --domain " + std::to_string(domain) + " --timeout 10 2>&1");
+    kill(run, SIGINT);
+    int status = 0;
+    waitpid(run, &status, 0);
+    const std::string output = ReadAll(run_log);
+    ASSERT_TRUE(WIFEXITED(status)) << output;
+    EXPECT_EQ(WEXITSTATUS(status), 0) << output;  // converged and written
+    EXPECT_NE(output.find("converged: written to " + out + "/extrinsic.yaml"), std::string::npos) << output;
+
+    const CalibrationResult live = ReadResultFile(out + "/extrinsic.yaml");
+    EXPECT_LT((live.T_camera_lidar.matrix() - reference_.T_camera_lidar.matrix()).cwiseAbs().maxCoeff(), 1e-6)
+        << "live:\n" << live.T_camera_lidar.matrix() << "\ncalibrate:\n" << reference_.T_camera_lidar.matrix() << "\n" << output;
+
+    // {"parent":"camera","child":"lidar","stamp":[..],"t":[x,y,z],"q":[x,y,z,w]}
+    ASSERT_EQ(tf.exit_code, 0) << tf.output;
+    std::smatch m;
+    const std::string number = "(-?[0-9.eE+-]+)";
+    ASSERT_TRUE(std::regex_search(tf.output, m, std::regex("\"t\":\\[" + number + "," + number + "," + number + "\\],\"q\":\\[" +
+                                                               number + "," + number + "," + number + "," + number + "\\]")))
+        << tf.output;
+    const Eigen::Vector3d t(std::stod(m[1]), std::stod(m[2]), std::stod(m[3]));
+    const Eigen::Quaterniond q(std::stod(m[7]), std::stod(m[4]), std::stod(m[5]), std::stod(m[6]));
+    EXPECT_NE(tf.output.find("\"parent\":\"camera\",\"child\":\"lidar\""), std::string::npos) << tf.output;
+    EXPECT_LT((t - live.T_camera_lidar.translation()).norm(), 1e-12) << tf.output;
+    EXPECT_LT((q.toRotationMatrix() - live.T_camera_lidar.linear()).cwiseAbs().maxCoeff(), 1e-12) << tf.output;
+  }
+
+  static std::string log_;
+  static CalibrationResult reference_;
+};
+
+std::string Ros2Live::log_;
+CalibrationResult Ros2Live::reference_;
+
+TEST_F(Ros2Live, CyclonePeerWithRosidlTypesBestEffortRawImages) {
+  CalibrateLive(CYCLONE_PEER_BIN, 72, "");
+}
+
+TEST_F(Ros2Live, CyclonePeerReliableCompressedImages) {
+  CalibrateLive(CYCLONE_PEER_BIN, 73, "--reliable --compressed", "/camera/image_raw/compressed");
+}
+
+#ifdef FASTDDS_PEER_BIN
+TEST_F(Ros2Live, FastDdsPeerAsRos2sDefaultMiddleware) {
+  CalibrateLive(FASTDDS_PEER_BIN, 74, "");
+}
+#endif
+
+TEST_F(Ros2Live, NoPublisherEndsWithWhatTheDomainHas) {
+  const std::string out = Dir() + "/silent";
+  const auto run = RunCommand(kFusecal + " run --ros2 --config " + Config(75, 3) + " --bus " + Bus(75) + " --out " +
+                              out + " 2>&1");
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("no message in 3 s on ROS 2 domain 75 on /camera/image_raw (sensor_msgs/msg/Image), "
+                            "/lidar/points (sensor_msgs/msg/PointCloud2), /camera/camera_info"),
+            std::string::npos)
+      << run.output;
+  // The only writer on the domain is the run's own tf publisher.
+  EXPECT_NE(run.output.find("the domain has: /tf_static (tf2_msgs/msg/TFMessage). Set ros2_input.image_topic"),
+            std::string::npos)
+      << run.output;
+}
+
+}  // namespace
+}  // namespace fusecal
