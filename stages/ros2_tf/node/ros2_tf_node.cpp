@@ -6,24 +6,41 @@
 
 #include "dds/dds.h"
 #include "formats/conversions.hpp"
+#include "formats/ros2_names.hpp"
+#include "formats/ros_sensor_encode.hpp"
+#include "ros2_tf/node/ros2_views.hpp"
 #include "ros2_dds/ros2_domain.hpp"
 #include "ros2_messages.h"
 #include "runtime/channels.hpp"
 
 namespace fusecal {
 
+namespace {
+constexpr int64_t kDiagnosticsPeriodUs = 1000000;  // 1 Hz, as ROS 2's diagnostic_updater
+}  // namespace
+
 Ros2TfNode::Ros2TfNode(const Ros2TfSettings& settings) : settings_(settings) {
   participant_ = JoinRos2Domain(settings_.domain, 4 << 20);
-  const dds_entity_t topic =
-      dds_create_topic(participant_, &tf2_msgs_msg_dds__TFMessage__desc, "rt/tf_static", nullptr, nullptr);
-  if (topic < 0) throw std::runtime_error("ros2_tf: cannot create topic rt/tf_static: " + DdsErrorText(topic));
+  writer_ = MakeWriter("rt/tf_static", &tf2_msgs_msg_dds__TFMessage__desc, true);
+  if (!settings_.overlay_topic.empty())
+    overlay_writer_ = MakeWriter(RosTopicToDds(settings_.overlay_topic), &sensor_msgs_msg_dds__Image__desc, true);
+  if (settings_.diagnostics)
+    diagnostics_writer_ = MakeWriter("rt/diagnostics", &diagnostic_msgs_msg_dds__DiagnosticArray__desc, false);
+}
+
+// Reliable, depth 1; transient local (a late subscriber gets the latest) or volatile.
+int Ros2TfNode::MakeWriter(const std::string& dds_topic, const void* descriptor, bool transient_local) {
+  const dds_entity_t topic = dds_create_topic(participant_, static_cast<const dds_topic_descriptor_t*>(descriptor),
+                                              dds_topic.c_str(), nullptr, nullptr);
+  if (topic < 0) throw std::runtime_error("ros2_tf: cannot create topic " + dds_topic + ": " + DdsErrorText(topic));
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-  dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
+  dds_qset_durability(qos, transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
   dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
-  writer_ = dds_create_writer(participant_, topic, qos, nullptr);
+  const dds_entity_t writer = dds_create_writer(participant_, topic, qos, nullptr);
   dds_delete_qos(qos);
-  if (writer_ < 0) throw std::runtime_error("ros2_tf: cannot create the rt/tf_static writer: " + DdsErrorText(writer_));
+  if (writer < 0) throw std::runtime_error("ros2_tf: cannot create the " + dds_topic + " writer: " + DdsErrorText(writer));
+  return writer;
 }
 
 Ros2TfNode::~Ros2TfNode() {
@@ -32,6 +49,17 @@ Ros2TfNode::~Ros2TfNode() {
 
 void Ros2TfNode::Start(Bus& bus) {
   subscriptions_.push_back(bus.Subscribe(typed_channels::kExtrinsic, [this](const extrinsic_t& e) { OnExtrinsic(e); }));
+  if (overlay_writer_ > 0)
+    subscriptions_.push_back(bus.Subscribe(typed_channels::kStation, [this](const station_t& s) {
+      station_ = std::make_unique<station_t>(s);
+      PublishOverlay();
+    }));
+}
+
+void Ros2TfNode::Tick(Bus&, int64_t now_utime) {
+  if (diagnostics_writer_ <= 0 || !extrinsic_ || now_utime - last_diagnostics_utime_ < kDiagnosticsPeriodUs) return;
+  last_diagnostics_utime_ = now_utime;
+  PublishDiagnostics();
 }
 
 // T_camera_lidar maps points of the child frame (LiDAR) into the parent (camera): exactly tf's
@@ -55,12 +83,65 @@ void Ros2TfNode::OnExtrinsic(const extrinsic_t& e) {
     throw std::runtime_error("ros2_tf: writing rt/tf_static failed: " + DdsErrorText(rc));
   last_version_ = e.version;
   ++published_;
+  extrinsic_ = std::make_unique<extrinsic_t>(e);
+  PublishOverlay();
+  if (diagnostics_writer_ > 0) PublishDiagnostics();
+}
+
+// The latest station through the latest extrinsic (nothing until both are there).
+void Ros2TfNode::PublishOverlay() {
+  if (overlay_writer_ <= 0 || !station_ || !extrinsic_) return;
+  const auto camera = MakeCameraModel(CameraFromMsg(station_->camera));
+  const RosImage image = ToRosImage(DrawPointsOnImage(ImageToMat(station_->image), CloudFromMsg(station_->cloud),
+                                                      *camera, FromRowMajor(extrinsic_->T_camera_lidar)),
+                                    RosHeader{UtimeToRosStamp(station_->utime), settings_.parent_frame});
+  sensor_msgs_msg_dds__Image_ out{};
+  out.header_.stamp_.sec_ = static_cast<int32_t>(image.header.stamp.sec);
+  out.header_.stamp_.nanosec_ = image.header.stamp.nsec;
+  out.header_.frame_id_ = const_cast<char*>(image.header.frame_id.c_str());
+  out.height_ = image.height;
+  out.width_ = image.width;
+  out.encoding_ = const_cast<char*>(image.encoding.c_str());
+  out.step_ = image.step;
+  out.data_._maximum = out.data_._length = static_cast<uint32_t>(image.data.size());
+  out.data_._buffer = const_cast<uint8_t*>(image.data.data());
+  out.data_._release = false;
+  if (const dds_return_t rc = dds_write(overlay_writer_, &out); rc < 0)
+    throw std::runtime_error("ros2_tf: writing " + settings_.overlay_topic + " failed: " + DdsErrorText(rc));
+  ++overlays_;
+}
+
+void Ros2TfNode::PublishDiagnostics() {
+  const DiagnosticReport report = DescribeExtrinsic(*extrinsic_);
+  std::vector<diagnostic_msgs_msg_dds__KeyValue_> values;
+  for (const auto& [key, value] : report.values)
+    values.push_back({const_cast<char*>(key.c_str()), const_cast<char*>(value.c_str())});
+  diagnostic_msgs_msg_dds__DiagnosticStatus_ status{};
+  status.level_ = report.level;
+  status.name_ = const_cast<char*>("fusecal: camera-LiDAR extrinsic");
+  status.message_ = const_cast<char*>(report.message.c_str());
+  status.hardware_id_ = const_cast<char*>(settings_.parent_frame.c_str());
+  status.values_._maximum = status.values_._length = static_cast<uint32_t>(values.size());
+  status.values_._buffer = values.data();
+  status.values_._release = false;
+  diagnostic_msgs_msg_dds__DiagnosticArray_ array{};
+  const RosTime stamp = UtimeToRosStamp(extrinsic_->utime);
+  array.header_.stamp_.sec_ = static_cast<int32_t>(stamp.sec);
+  array.header_.stamp_.nanosec_ = stamp.nsec;
+  array.header_.frame_id_ = const_cast<char*>("");
+  array.status_._maximum = array.status_._length = 1;
+  array.status_._buffer = &status;
+  array.status_._release = false;
+  if (const dds_return_t rc = dds_write(diagnostics_writer_, &array); rc < 0)
+    throw std::runtime_error("ros2_tf: writing rt/diagnostics failed: " + DdsErrorText(rc));
+  ++diagnostics_;
 }
 
 StageStatus Ros2TfNode::Status() const {
   StageStatus s;
   s.state = published_ ? "publishing rt/tf_static" : "waiting for EXTRINSIC";
-  s.counters = {{"published", published_}, {"version", last_version_}, {"domain", settings_.domain}};
+  s.counters = {{"published", published_}, {"version", last_version_}, {"domain", settings_.domain},
+                {"overlays", overlays_}, {"diagnostics", diagnostics_}};
   return s;
 }
 

@@ -1,6 +1,9 @@
 // fusecal-ros2-tf: ROS 2 without ROS. Every EXTRINSIC becomes a tf2_msgs/TFMessage on the DDS topic
 // `rt/tf_static` (reliable, transient local, depth 1, as tf2_ros's static broadcaster does), so a ROS 2
-// system on the same domain sees parent_frame -> child_frame (T_camera_lidar) with no bridge. The types
+// system on the same domain sees parent_frame -> child_frame (T_camera_lidar) with no bridge. For the
+// user watching in rviz, Foxglove or rqt: the latest STATION's image with its points drawn through the
+// latest extrinsic as a sensor_msgs/Image on `overlay_topic` (reliable, transient local, depth 1), and
+// the calibration's state as a diagnostic_msgs/DiagnosticArray on `rt/diagnostics` (1 Hz). The types
 // are generated from stages/ros2_dds/ros2_messages.idl (rosidl's form) by Cyclone's idlc.
 #pragma once
 
@@ -8,6 +11,7 @@
 #include <vector>
 
 #include "fusecal/extrinsic_t.hpp"
+#include "fusecal/station_t.hpp"
 #include "ros2_tf/node/ros2_tf_settings.hpp"
 #include "runtime/stage_main.hpp"
 
@@ -19,13 +23,22 @@ class Ros2TfNode : public StageNode {
   explicit Ros2TfNode(const Ros2TfSettings& settings);
   ~Ros2TfNode() override;
   void Start(Bus& bus) override;
+  void Tick(Bus& bus, int64_t now_utime) override;
   StageStatus Status() const override;
 
  private:
   void OnExtrinsic(const extrinsic_t& extrinsic);
+  void PublishOverlay();
+  void PublishDiagnostics();
+  int MakeWriter(const std::string& dds_topic, const void* descriptor, bool transient_local);
 
   Ros2TfSettings settings_;
   int participant_ = 0, writer_ = 0;  // dds_entity_t
+  int overlay_writer_ = 0, diagnostics_writer_ = 0;
+  std::unique_ptr<station_t> station_;        // the latest, for the overlay
+  std::unique_ptr<extrinsic_t> extrinsic_;    // the latest published
+  int64_t last_diagnostics_utime_ = 0;
+  int overlays_ = 0, diagnostics_ = 0;
   std::vector<Subscription> subscriptions_;
   int published_ = 0;
   int last_version_ = -1;

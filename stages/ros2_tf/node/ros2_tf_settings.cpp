@@ -1,11 +1,22 @@
 #include "ros2_tf/node/ros2_tf_settings.hpp"
 
+#include <stdexcept>
+
+#include "formats/ros2_names.hpp"
+
 namespace fusecal {
 
 std::string Ros2TfSettings::Validate() const {
   if (domain < 0 || domain > 232) return "domain: must be in [0, 232]";
   if (parent_frame.empty() || child_frame.empty() || parent_frame == child_frame)
     return "parent_frame and child_frame must be two different, non-empty frame ids";
+  if (!overlay_topic.empty()) {
+    try {
+      RosTopicToDds(overlay_topic);
+    } catch (const std::invalid_argument& e) {
+      return std::string("overlay_topic: ") + e.what();
+    }
+  }
   return {};
 }
 
@@ -15,6 +26,8 @@ Ros2TfSettings ReadRos2TfSettings(ConfigReader r) {
   r.Get("domain", &s.domain);
   r.Get("parent_frame", &s.parent_frame);
   r.Get("child_frame", &s.child_frame);
+  r.Get("overlay_topic", &s.overlay_topic);
+  r.Get("diagnostics", &s.diagnostics);
   r.Finish();
   r.FailIfInvalid(s.Validate());
   return s;

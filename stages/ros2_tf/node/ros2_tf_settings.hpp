@@ -12,8 +12,13 @@ struct Ros2TfSettings {
   int domain = 0;                     // the ROS 2 domain (ROS_DOMAIN_ID)
   std::string parent_frame = "camera";  // header.frame_id: T_camera_lidar maps the child into it
   std::string child_frame = "lidar";    // child_frame_id
+  // The latest station's image with the LiDAR points drawn through the current extrinsic, as a
+  // sensor_msgs/Image on this ROS 2 topic (empty: not published).
+  std::string overlay_topic = "/fusecal/overlay";
+  bool diagnostics = true;  // the calibration's state as a diagnostic_msgs/DiagnosticArray on /diagnostics
 
-  // Empty when usable, else what is wrong: domain in [0, 232]; two different, non-empty frame ids.
+  // Empty when usable, else what is wrong: domain in [0, 232]; two different, non-empty frame ids; an
+  // overlay topic ROS allows.
   std::string Validate() const;
 };
 

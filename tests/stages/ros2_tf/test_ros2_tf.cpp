@@ -9,12 +9,14 @@
 #include <Eigen/Geometry>
 #include <chrono>
 #include <fstream>
+#include <map>
 #include <string>
 #include <thread>
 
 #include "dds/dds.h"
 #include "formats/conversions.hpp"
 #include "fusecal/extrinsic_t.hpp"
+#include "fusecal/station_t.hpp"
 #include "ros2_messages.h"
 #include "runtime/bus.hpp"
 
@@ -100,6 +102,95 @@ TEST(Ros2Tf, AStaticTransformReachesARos2ReaderWithTheConfiguredFrames) {
                              t.transform_.rotation_.z_);
   EXPECT_LT(RotationErrorDeg(q.toRotationMatrix(), X.linear()), 1e-9);
   dds_return_loan(reader, samples, taken);
+  dds_delete(participant);
+}
+
+// The overlay and diagnostics a ROS 2 user looks at: after a STATION and an EXTRINSIC on the bus, a late
+// reader of the overlay topic gets the station's image with the points drawn, and a reader of
+// rt/diagnostics the verdict and the estimate.
+TEST(Ros2Tf, TheOverlayImageAndTheDiagnosticsReachRos2Readers) {
+  constexpr int kViewsDomain = 39;
+  const std::string dir = testing::TempDir() + "fusecal_ros2_views_" + std::to_string(getpid());
+  const std::string config = dir + ".yaml", log = dir + ".log";
+  std::ofstream(config) << "ros2_tf:\n  domain: " << kViewsDomain << "\n  overlay_topic: /calib/overlay\n";
+  const dds_entity_t participant = dds_create_participant(kViewsDomain, nullptr, nullptr);
+  ASSERT_GT(participant, 0);
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
+  const dds_entity_t diagnostics = dds_create_reader(
+      participant, dds_create_topic(participant, &diagnostic_msgs_msg_dds__DiagnosticArray__desc, "rt/diagnostics", nullptr, nullptr),
+      qos, nullptr);
+  dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
+  const dds_entity_t overlay = dds_create_reader(
+      participant, dds_create_topic(participant, &sensor_msgs_msg_dds__Image__desc, "rt/calib/overlay", nullptr, nullptr),
+      qos, nullptr);
+  dds_delete_qos(qos);
+  const pid_t pid = Start(config, log);
+  ASSERT_GT(pid, 0);
+
+  // A grey 64x48 image, points 4 m ahead on a 5x5 grid, a pinhole camera; X = identity.
+  station_t station{};
+  station.utime = 1700000002000000;
+  station.id = 3;
+  station.image = MatToImage(cv::Mat(48, 64, CV_8UC1, cv::Scalar(128)), "mono8", station.utime);
+  PointCloud cloud;
+  for (int i = -2; i <= 2; ++i)
+    for (int j = -2; j <= 2; ++j) cloud.points.emplace_back(0.5f * i, 0.4f * j, 4.0f);
+  station.cloud = CloudToMsg(cloud, station.utime);
+  CameraParams camera;
+  camera.width = 64;
+  camera.height = 48;
+  camera.fx = camera.fy = 40;
+  camera.cx = 31.5;
+  camera.cy = 23.5;
+  station.camera = CameraToMsg(camera);
+  extrinsic_t e{};
+  e.utime = station.utime + 1000;
+  e.version = 4;
+  ToRowMajor(Isometry3::Identity(), e.T_camera_lidar);
+  e.status = extrinsic_t::STATUS_CONVERGED;
+  e.converged = true;
+  auto bus = MakeBus(kBus);
+  void* image_sample[1] = {nullptr};
+  void* diagnostic_sample[1] = {nullptr};
+  dds_sample_info_t info[1];
+  int images = 0, arrays = 0;
+  for (int k = 0; k < 100 && (images <= 0 || arrays <= 0); ++k) {
+    bus->Publish("STATION", station);
+    bus->Publish("EXTRINSIC", e);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (images <= 0) images = dds_take(overlay, image_sample, info, 1, 1);
+    if (arrays <= 0) arrays = dds_take(diagnostics, diagnostic_sample, info, 1, 1);
+  }
+  kill(pid, SIGTERM);
+  waitpid(pid, nullptr, 0);
+  std::ifstream in(log);
+  const std::string output((std::istreambuf_iterator<char>(in)), {});
+  ASSERT_EQ(images, 1) << output;
+  ASSERT_EQ(arrays, 1) << output;
+  const auto* image = static_cast<const sensor_msgs_msg_dds__Image_*>(image_sample[0]);
+  EXPECT_EQ(image->width_, 64u);
+  EXPECT_EQ(image->height_, 48u);
+  EXPECT_STREQ(image->encoding_, "bgr8");
+  ASSERT_EQ(image->data_._length, 64u * 48u * 3u);
+  int coloured = 0;  // pixels no longer grey: the drawn points
+  for (uint32_t p = 0; p < 64 * 48; ++p) {
+    const uint8_t* bgr = &image->data_._buffer[3 * p];
+    coloured += bgr[0] != bgr[1] || bgr[1] != bgr[2];
+  }
+  EXPECT_GE(coloured, 25) << "the 25 points are not drawn";
+  const auto* array = static_cast<const diagnostic_msgs_msg_dds__DiagnosticArray_*>(diagnostic_sample[0]);
+  ASSERT_EQ(array->status_._length, 1u);
+  const auto& status = array->status_._buffer[0];
+  EXPECT_EQ(status.level_, 0);  // OK: converged
+  EXPECT_STREQ(status.message_, "converged (ok)");
+  std::map<std::string, std::string> values;
+  for (uint32_t i = 0; i < status.values_._length; ++i) values[status.values_._buffer[i].key_] = status.values_._buffer[i].value_;
+  EXPECT_EQ(values["version"], "4");
+  EXPECT_EQ(values["translation_m"], "[0.0000, 0.0000, 0.0000]");
+  dds_return_loan(overlay, image_sample, 1);
+  dds_return_loan(diagnostics, diagnostic_sample, 1);
   dds_delete(participant);
 }
 

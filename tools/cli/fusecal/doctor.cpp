@@ -108,6 +108,22 @@ DoctorFinding CheckReceiveBuffer(const std::string& url) {
   return f;
 }
 
+// fusecal-ros2-input asks Cyclone for a receive buffer of 6 of its largest messages; the kernel caps it
+// at rmem_max, and a smaller buffer loses best-effort clouds without counting them.
+DoctorFinding CheckRos2ReceiveBuffer(size_t wanted) {
+  DoctorFinding f;
+  f.check = "ROS 2 receive buffer";
+  const int64_t rmem_max = ReadNumber("/proc/sys/net/core/rmem_max");
+  f.ok = rmem_max >= static_cast<int64_t>(wanted);
+  f.loses_messages = !f.ok;
+  f.detail = "net.core.rmem_max = " + std::to_string(rmem_max) + ", fusecal-ros2-input asks for " +
+             std::to_string(wanted) + " (6 x ros2_input.max_message_mb)";
+  if (!f.ok)
+    f.fix = "sysctl -w net.core.rmem_max=" + std::to_string(wanted) + " (persist: echo net.core.rmem_max=" +
+            std::to_string(wanted) + " > /etc/sysctl.d/60-fusecal.conf)";
+  return f;
+}
+
 // /dev/shm must hold RouDi's pools for the default configuration (the shared-memory transport only).
 DoctorFinding CheckSharedMemory() {
   DoctorFinding f;
@@ -231,7 +247,7 @@ DoctorFinding CheckUrl(const std::string& url) {
 
 }  // namespace
 
-std::vector<DoctorFinding> RunDoctor(const std::string& bus_url, bool apply_fixes) {
+std::vector<DoctorFinding> RunDoctor(const std::string& bus_url, bool apply_fixes, size_t ros2_receive_buffer) {
   const std::string url = bus_url.empty() ? DefaultBusUrl() : bus_url;
   const DoctorFinding url_finding = CheckUrl(url);
   if (!url_finding.ok) return {url_finding};
@@ -246,6 +262,7 @@ std::vector<DoctorFinding> RunDoctor(const std::string& bus_url, bool apply_fixe
     }
     findings.push_back(CheckSharedMemory());
     findings.push_back(CheckRoudi(url));
+    if (ros2_receive_buffer > 0) findings.push_back(CheckRos2ReceiveBuffer(ros2_receive_buffer));
     return findings;
   };
   std::vector<DoctorFinding> findings = run_checks();

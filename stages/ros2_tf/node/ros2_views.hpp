@@ -1,0 +1,35 @@
+// What fusecal-ros2-tf shows a ROS 2 user besides the transform, without DDS: the latest station's image
+// with its LiDAR points drawn through the current extrinsic (for sensor_msgs/Image: rviz, Foxglove,
+// rqt_image_view), and the calibration's state as one diagnostic_msgs/DiagnosticStatus (rqt's runtime
+// monitor, Foxglove's diagnostics panel).
+#pragma once
+
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "foundation/camera_model.hpp"
+#include "foundation/se3.hpp"
+#include "foundation/point_cloud.hpp"
+#include "fusecal/extrinsic_t.hpp"
+
+namespace fusecal {
+
+// BGR copy of `image` (grey images turned to colour) with each LiDAR point that projects into it drawn
+// as a dot coloured by its depth (near red, far blue, as the overlays of `calibrate`).
+cv::Mat DrawPointsOnImage(const cv::Mat& image, const PointCloud& cloud, const CameraModel& camera,
+                          const Isometry3& T_camera_lidar);
+
+struct DiagnosticReport {
+  uint8_t level = 0;  // diagnostic_msgs/DiagnosticStatus: 0 OK, 1 WARN, 2 ERROR
+  std::string message;
+  std::vector<std::pair<std::string, std::string>> values;
+};
+
+// OK when converged, WARN while refining or not converged, ERROR when degenerate or failed; the message
+// is the verdict; the values are the version, the estimate, its standard deviations and the motions.
+DiagnosticReport DescribeExtrinsic(const extrinsic_t& extrinsic);
+
+}  // namespace fusecal
