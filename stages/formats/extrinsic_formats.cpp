@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <yaml-cpp/yaml.h>
+
 #include "runtime/strict_yaml.hpp"
 
 namespace fusecal {
@@ -139,10 +141,17 @@ Isometry3 ParseExportedExtrinsic(const std::string& text, const std::string& for
     // OpenCV's "%YAML:1.0" directive (not YAML 1.2 syntax) blanked out so that line numbers hold.
     std::string yaml = text;
     if (yaml.rfind("%YAML:", 0) == 0) yaml.replace(0, std::min(yaml.find('\n'), yaml.size()), "");
+    // OpenCV allocates rows x cols before it looks at the data (fuzzing: 64 GB for "rows: ("): the
+    // matrix must say 4 x 4 here first.
     try {
-      LoadStrictYaml(yaml, "opencv-yaml");
+      const YAML::Node matrix = LoadStrictYaml(yaml, "opencv-yaml")["T_camera_lidar"];
+      if (!matrix.IsMap() || !matrix["rows"] || !matrix["cols"] || matrix["rows"].as<std::string>() != "4" ||
+          matrix["cols"].as<std::string>() != "4")
+        throw std::runtime_error("opencv-yaml: needs T_camera_lidar as an opencv-matrix with rows: 4 and cols: 4");
     } catch (const YamlError& e) {
       throw std::runtime_error(e.what());
+    } catch (const YAML::Exception& e) {
+      throw std::runtime_error(std::string("opencv-yaml: ") + e.what());
     }
     cv::Mat T;
     try {

@@ -24,7 +24,7 @@ constexpr uint32_t kNoChannel = UINT32_MAX;
 class Scanner {
  public:
   Scanner(ByteSource& source, const std::string& name, const Limits& limits)
-      : source_(source), name_(name), limits_(limits), channel_by_id_(65536, kNoChannel) {}
+      : source_(source), name_(name), limits_(limits) {}
 
   McapIndex Run() {
     CheckMagic();
@@ -149,7 +149,7 @@ class Scanner {
     channel.topic = fields.String();
     channel.message_encoding = fields.String();
     fields.SkipPrefixed();  // metadata
-    if (channel_by_id_[channel.id] != kNoChannel) return;  // a repeat: the first definition stands
+    if (channel_by_id_.count(channel.id)) return;  // a repeat: the first definition stands
     if (schema_id != 0) {
       const auto schema = schemas_.find(schema_id);
       if (schema == schemas_.end())
@@ -165,7 +165,8 @@ class Scanner {
   // head: the Message record's first kMessageHead bytes; data_offset: where its data starts.
   void AddMessage(const uint8_t* head, uint64_t length, uint32_t chunk, uint64_t data_offset) {
     const uint16_t channel_id = static_cast<uint16_t>(LoadLe(head, 2));
-    const uint32_t channel = channel_by_id_[channel_id];
+    const auto found = channel_by_id_.find(channel_id);
+    const uint32_t channel = found == channel_by_id_.end() ? kNoChannel : found->second;
     if (channel == kNoChannel)
       throw McapError("Message on channel " + std::to_string(channel_id) +
                       ", which no Channel record before it defines");
@@ -188,7 +189,9 @@ class Scanner {
   Limits limits_;
   bool complete_ = false;
   McapIndex index_;
-  std::vector<uint32_t> channel_by_id_;  // index into index_.channels, by channel id
+  // Index into index_.channels, by channel id (a map: a table of all 65536 ids cost more than a small
+  // file took to read).
+  std::unordered_map<uint16_t, uint32_t> channel_by_id_;
   std::unordered_map<uint16_t, std::pair<std::string, std::string>> schemas_;  // id: name, encoding
 };
 
