@@ -46,6 +46,11 @@ int FieldSize(uint8_t datatype) { return datatype <= 2 ? 1 : datatype <= 4 ? 2 :
 
 // Reads one numeric PointCloud2 field as a double.
 double ReadField(const uint8_t* p, uint8_t datatype, bool big_endian) {
+  if (datatype == RosPointField::FLOAT32 && !big_endian) {  // the usual layout, a third of an import's time
+    float v;
+    std::memcpy(&v, p, 4);
+    return v;
+  }
   uint8_t bytes[8];
   const int size = FieldSize(datatype);
   for (int i = 0; i < size; ++i) bytes[i] = big_endian ? p[size - 1 - i] : p[i];
@@ -180,6 +185,9 @@ PointCloud RosCloudToPointCloud(const RosPointCloud2& msg, int* dropped) {
     return cloud;
   }
   int skipped = 0;
+  const size_t points = static_cast<size_t>(msg.width) * msg.height;  // CheckCloudSize: the data holds them
+  cloud.points.reserve(points);
+  if (intensity) cloud.intensity.reserve(points);
   for (uint32_t row = 0; row < msg.height; ++row)
     for (uint32_t col = 0; col < msg.width; ++col) {
       const uint8_t* point = msg.data.data() + static_cast<size_t>(row) * msg.row_step +

@@ -111,6 +111,15 @@ TEST_F(Rosbag2, BadCrcFailsNamingFileAndOffset) {
                   {path, "bad CRC", "offset " + std::to_string(file_.chunk_offsets[1])});
 }
 
+// An uncompressed chunk is not read whole when the file is opened (only its record headers): its CRC is
+// checked when its messages are read, with the same error.
+TEST_F(Rosbag2, BadCrcOfAnUncompressedChunkFailsWhenItsMessagesAreRead) {
+  const std::string path = Mcap("bag.mcap", {"", true, 4, true});
+  Patch(path, file_.chunk_offsets.at(1) + kChunkCrcField, 0x12345678, 4);
+  Rosbag2Reader reader(path);
+  ExpectErrorWith([&] { ReadAll(reader); }, {path, "bad CRC", "offset " + std::to_string(file_.chunk_offsets[1])});
+}
+
 TEST_F(Rosbag2, UnknownCompressionFailsNamingIt) {
   const std::string path = Mcap("bag.mcap", {"brotli", true, 4, true});
   ExpectErrorWith([&] { Rosbag2Reader reader(path); },

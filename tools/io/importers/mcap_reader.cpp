@@ -72,6 +72,13 @@ const uint8_t* McapCursor::ChunkData(uint32_t chunk) {
     throw std::runtime_error(reader_.name_ + ": " + e.what() + " at offset " + std::to_string(location.record_offset) +
                              " (the chunk read well when the file was opened)");
   }
+  if (location.compression == Compression::kNone && location.crc != 0) {
+    const uint32_t actual = Crc32(data.data(), data.size());
+    if (actual != location.crc)
+      throw std::runtime_error(reader_.name_ + ": bad CRC of a chunk: its records have CRC32 " + std::to_string(actual) +
+                               ", the chunk says " + std::to_string(location.crc) + " at offset " +
+                               std::to_string(location.record_offset));
+  }
   return data.data();
 }
 

@@ -183,6 +183,7 @@ class Scanner {
 
   void ScanChunk(uint64_t offset, uint64_t length);
   void ScanChunkRecords(const std::vector<uint8_t>& records, uint32_t chunk);
+  void ScanStoredRecords(uint64_t start, uint64_t size, uint32_t chunk);
 
   ByteSource& source_;
   const std::string& name_;
@@ -217,6 +218,18 @@ void Scanner::ScanChunk(uint64_t offset, uint64_t length) {
   ChunkLocation location{offset, content + head_size, stored_size, uncompressed_size, Compression::kNone};
   if (!ParseCompression(compression_name, location.compression))
     throw McapError("unknown compression '" + compression_name + "' of a chunk");
+  if (location.compression == Compression::kNone) {
+    if (stored_size != uncompressed_size)
+      throw McapError("uncompressed chunk of " + std::to_string(stored_size) + " bytes declares an uncompressed size of " +
+                      std::to_string(uncompressed_size));
+    if (uncompressed_size > limits_.max_chunk_bytes)
+      throw McapError("chunk of " + std::to_string(uncompressed_size) + " uncompressed bytes exceeds the limit of " +
+                      std::to_string(limits_.max_chunk_bytes));
+    location.crc = crc;
+    index_.chunks.push_back(location);
+    ScanStoredRecords(location.stored_offset, stored_size, static_cast<uint32_t>(index_.chunks.size() - 1));
+    return;
+  }
   const std::vector<uint8_t> records =
       ChunkRecords(location.compression, source_.Read(location.stored_offset, stored_size), uncompressed_size,
                    limits_.max_chunk_bytes);
@@ -226,6 +239,33 @@ void Scanner::ScanChunk(uint64_t offset, uint64_t length) {
                     ", the chunk says " + std::to_string(crc));
   index_.chunks.push_back(location);
   ScanChunkRecords(records, static_cast<uint32_t>(index_.chunks.size() - 1));
+}
+
+// The records of an uncompressed chunk, read in place: each record's header, a definition whole, a
+// message's fixed head only (its data is read once, when it is visited).
+void Scanner::ScanStoredRecords(uint64_t start, uint64_t size, uint32_t chunk) {
+  uint8_t head[kRecordHead + kMessageHead];
+  for (uint64_t at = 0; at < size;) {
+    const auto where = [&] {
+      return " at byte " + std::to_string(at) + " of the chunk's " + std::to_string(size) + " uncompressed bytes";
+    };
+    if (size - at < kRecordHead) throw McapError("chunk: an incomplete record header" + where());
+    source_.ReadAt(start + at, kRecordHead, head);
+    const uint8_t op = head[0];
+    const uint64_t length = LoadLe(head + 1, 8);
+    if (length > size - at - kRecordHead)
+      throw McapError("chunk: a record length of " + std::to_string(length) + " runs past the records" + where());
+    if (op == kSchema || op == kChannel) {
+      const std::vector<uint8_t> content = source_.Read(start + at + kRecordHead, length);
+      ScanDefinition(op, content.data(), length);
+    } else if (op == kMessage) {
+      if (length < kMessageHead) throw McapError("chunk: a Message record of " + std::to_string(length) +
+                                                 " bytes" + where());
+      source_.ReadAt(start + at + kRecordHead, kMessageHead, head + kRecordHead);
+      AddMessage(head + kRecordHead, length, chunk, at + kRecordHead + kMessageHead);
+    }
+    at += kRecordHead + length;
+  }
 }
 
 // Schema, Channel and Message records inside a chunk; each length is checked against the records.
