@@ -88,7 +88,7 @@ int StageMain(int argc, char** argv, const StageDefinition& stage) {
   std::cerr << "fusecal-" << stage.name << ": running on " << bus->url() << "\n";
   while (!g_stop_requested) {
     try {
-      bus->Handle(100);
+      bus->Handle(node->TickPeriodMs());
       node->Tick(*bus, NowUtime());
     } catch (const std::exception& e) {
       if (g_stop_requested) break;  // a signal interrupted the wait: not an error

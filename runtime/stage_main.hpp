@@ -25,8 +25,10 @@ class StageNode {
   virtual ~StageNode() = default;
   // Subscribe to the channels the stage needs.
   virtual void Start(Bus& bus) = 0;
-  // Called about every 100 ms and after each batch of messages (timeouts, retries).
+  // Called about every TickPeriodMs() and after each batch of messages (timeouts, retries).
   virtual void Tick(Bus& bus, int64_t now_utime) {}
+  // A node that polls an outside source in Tick (the ROS 2 input) asks for a shorter period.
+  virtual int TickPeriodMs() const { return 100; }
   // The input has ended (a replayed log is exhausted): emit whatever is pending.
   virtual void Flush(Bus& bus) {}
   virtual StageStatus Status() const = 0;

@@ -105,6 +105,7 @@ void Ros2InputNode::TakeAll(Bus& bus, Reader& r, int64_t now_utime) {
           r.latency_max_s = std::max(r.latency_max_s, latency_s);
           ++r.latency_count;
         }
+        const auto start = std::chrono::steady_clock::now();
         const Ros2InputFrame frame = input_->Take(r.kind, buffer_.data(), buffer_.size(), now_utime);
         if (!frame.error.empty() && !r.warned) {
           r.warned = true;
@@ -112,6 +113,7 @@ void Ros2InputNode::TakeAll(Bus& bus, Reader& r, int64_t now_utime) {
                     << " (counted as malformed in STATUS; later ones are not printed)" << std::endl;
         }
         Publish(bus, frame);
+        work_.Add(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       }
       ddsi_serdata_unref(samples[i]);
     }
@@ -141,10 +143,14 @@ void Ros2InputNode::Publish(Bus& bus, const Ros2InputFrame& frame) {
       bus.Publish(channels::kCameraImage, msg);
     }
     ++published_images_;
+    first_stamp_ = std::min(first_stamp_, image.utime);
+    last_stamp_ = std::max(last_stamp_, image.utime);
   }
   if (frame.scan) {
     bus.Publish(channels::kLidarScan, CloudToMsg(frame.scan->cloud, frame.scan->utime));
     ++published_scans_;
+    first_stamp_ = std::min(first_stamp_, frame.scan->utime);
+    last_stamp_ = std::max(last_stamp_, frame.scan->utime);
   }
 }
 
@@ -181,6 +187,8 @@ StageStatus Ros2InputNode::Status() const {
   s.counters["images"] = static_cast<double>(published_images_);
   s.counters["scans"] = static_cast<double>(published_scans_);
   s.counters["unstamped"] = input_->unstamped();
+  if (last_stamp_ > first_stamp_) s.counters["stream_span_s"] = (last_stamp_ - first_stamp_) * 1e-6;
+  work_.AddTo(&s.counters);
   for (const Reader& r : readers_) {
     const Ros2TopicCounts& c = input_->counts(r.kind);
     const std::string key = r.kind == Ros2SensorTopic::kCloud ? "cloud" : r.kind == Ros2SensorTopic::kCameraInfo ? "camera_info" : "image";

@@ -20,6 +20,7 @@
 #include "ros2_input/node/ros2_input_settings.hpp"
 #include "ros2_input/node/ros2_sensor_input.hpp"
 #include "runtime/stage_main.hpp"
+#include "runtime/work_stats.hpp"
 
 namespace fusecal {
 
@@ -33,6 +34,8 @@ class Ros2InputNode : public StageNode {
   ~Ros2InputNode() override;
   void Start(Bus& bus) override;
   void Tick(Bus& bus, int64_t now_utime) override;
+  // The DDS readers are polled in Tick: every 5 ms, so that a frame waits at most that long.
+  int TickPeriodMs() const override { return 5; }
   StageStatus Status() const override;
 
  private:
@@ -58,6 +61,8 @@ class Ros2InputNode : public StageNode {
   int64_t start_utime_ = 0, last_camera_info_utime_ = 0;
   bool no_input_ = false;
   long published_images_ = 0, published_scans_ = 0;
+  int64_t first_stamp_ = INT64_MAX, last_stamp_ = INT64_MIN;  // of the frames published: the stream's span
+  WorkStats work_;  // one item per message taken: decoding, converting, publishing
 };
 
 }  // namespace fusecal

@@ -4,8 +4,9 @@
 //
 //   cyclone_ros2_peer play LOG [--domain N] [--speed X] [--compressed] [--reliable] [--wait-s S]
 //       [--image-topic T] [--cloud-topic T] [--camera-info-topic T]
-//     publishes the log's CAMERA_INFO, CAMERA_IMAGE and LIDAR_SCAN as sensor_msgs topics at recorded
-//     pace (stamps from the log), once every topic has a matched reader; prints what it sent as JSON.
+//     publishes the log's CAMERA_IMAGE and LIDAR_SCAN as sensor_msgs topics at recorded pace (stamps from
+//     the log), with the CameraInfo beside every image as camera drivers do, once every topic has a
+//     matched reader; prints what it sent as JSON.
 //   cyclone_ros2_peer tf-listen [--domain N] [--timeout S]
 //     a late-joining reader of rt/tf_static (reliable, transient local); prints the transform as JSON.
 #include <CLI/CLI.hpp>
@@ -13,6 +14,7 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
@@ -89,66 +91,78 @@ class Player {
     const int size = static_cast<int>(event.data.size());
     if (event.channel == channels::kCameraInfo) {
       camera_info_t msg{};
-      if (msg.decode(event.data.data(), 0, size) < 0) return;
-      const RosCameraInfo info = ToRosCameraInfo(CameraFromMsg(msg), RosHeader{UtimeToRosStamp(event.utime), "camera"});
-      sensor_msgs_msg_dds__CameraInfo_ out{};
-      Fill(out.header_, info.header);
-      out.height_ = info.height;
-      out.width_ = info.width;
-      out.distortion_model_ = const_cast<char*>(info.distortion_model.c_str());
-      Borrow(out.d_, info.D);
-      std::copy(info.K.begin(), info.K.end(), out.k_);
-      std::copy(info.R.begin(), info.R.end(), out.r_);
-      std::copy(info.P.begin(), info.P.end(), out.p_);
-      Write(info_, &out);
+      if (msg.decode(event.data.data(), 0, size) >= 0) camera_ = CameraFromMsg(msg);
     } else if (event.channel == channels::kCameraImage) {
       image_t msg{};
       if (msg.decode(event.data.data(), 0, size) < 0) return;
-      const RosHeader header{UtimeToRosStamp(msg.utime), "camera"};
-      if (compressed_) {
-        std::vector<uint8_t> bytes = msg.data;
-        std::string encoding = msg.encoding;
-        if (encoding != "jpeg" && encoding != "png") {
-          cv::imencode(".png", ImageToMat(msg), bytes);
-          encoding = "png";
-        }
-        const RosCompressedImage image = ToRosCompressedImage(bytes, encoding, header);
-        sensor_msgs_msg_dds__CompressedImage_ out{};
-        Fill(out.header_, image.header);
-        out.format_ = const_cast<char*>(image.format.c_str());
-        Borrow(out.data_, image.data);
-        Write(image_, &out);
-      } else {
-        const RosImage image = ToRosImage(ImageToMat(msg), header);
-        sensor_msgs_msg_dds__Image_ out{};
-        Fill(out.header_, image.header);
-        out.height_ = image.height;
-        out.width_ = image.width;
-        out.encoding_ = const_cast<char*>(image.encoding.c_str());
-        out.is_bigendian_ = image.is_bigendian;
-        out.step_ = image.step;
-        Borrow(out.data_, image.data);
-        Write(image_, &out);
-      }
+      if (camera_) SendCameraInfo(RosHeader{UtimeToRosStamp(msg.utime), "camera"});
+      SendImage(msg);
     } else if (event.channel == channels::kLidarScan) {
       point_cloud_t msg{};
       if (msg.decode(event.data.data(), 0, size) < 0) return;
-      const RosPointCloud2 cloud = ToRosPointCloud2(CloudFromMsg(msg), RosHeader{UtimeToRosStamp(msg.utime), "lidar"});
-      std::vector<sensor_msgs_msg_dds__PointField_> fields;
-      for (const RosPointField& f : cloud.fields)
-        fields.push_back({const_cast<char*>(f.name.c_str()), f.offset, f.datatype, f.count});
-      sensor_msgs_msg_dds__PointCloud2_ out{};
-      Fill(out.header_, cloud.header);
-      out.height_ = cloud.height;
-      out.width_ = cloud.width;
-      Borrow(out.fields_, fields);
-      out.is_bigendian_ = cloud.is_bigendian;
-      out.point_step_ = cloud.point_step;
-      out.row_step_ = cloud.row_step;
-      Borrow(out.data_, cloud.data);
-      out.is_dense_ = cloud.is_dense;
-      Write(cloud_, &out);
+      SendCloud(msg);
     }
+  }
+
+  void SendCameraInfo(const RosHeader& header) {
+    const RosCameraInfo info = ToRosCameraInfo(*camera_, header);
+    sensor_msgs_msg_dds__CameraInfo_ out{};
+    Fill(out.header_, info.header);
+    out.height_ = info.height;
+    out.width_ = info.width;
+    out.distortion_model_ = const_cast<char*>(info.distortion_model.c_str());
+    Borrow(out.d_, info.D);
+    std::copy(info.K.begin(), info.K.end(), out.k_);
+    std::copy(info.R.begin(), info.R.end(), out.r_);
+    std::copy(info.P.begin(), info.P.end(), out.p_);
+    Write(info_, &out);
+  }
+
+  void SendImage(const image_t& msg) {
+    const RosHeader header{UtimeToRosStamp(msg.utime), "camera"};
+    if (compressed_) {
+      std::vector<uint8_t> bytes = msg.data;
+      std::string encoding = msg.encoding;
+      if (encoding != "jpeg" && encoding != "png") {
+        cv::imencode(".png", ImageToMat(msg), bytes);
+        encoding = "png";
+      }
+      const RosCompressedImage image = ToRosCompressedImage(bytes, encoding, header);
+      sensor_msgs_msg_dds__CompressedImage_ out{};
+      Fill(out.header_, image.header);
+      out.format_ = const_cast<char*>(image.format.c_str());
+      Borrow(out.data_, image.data);
+      Write(image_, &out);
+    } else {
+      const RosImage image = ToRosImage(ImageToMat(msg), header);
+      sensor_msgs_msg_dds__Image_ out{};
+      Fill(out.header_, image.header);
+      out.height_ = image.height;
+      out.width_ = image.width;
+      out.encoding_ = const_cast<char*>(image.encoding.c_str());
+      out.is_bigendian_ = image.is_bigendian;
+      out.step_ = image.step;
+      Borrow(out.data_, image.data);
+      Write(image_, &out);
+    }
+  }
+
+  void SendCloud(const point_cloud_t& msg) {
+    const RosPointCloud2 cloud = ToRosPointCloud2(CloudFromMsg(msg), RosHeader{UtimeToRosStamp(msg.utime), "lidar"});
+    std::vector<sensor_msgs_msg_dds__PointField_> fields;
+    for (const RosPointField& f : cloud.fields)
+      fields.push_back({const_cast<char*>(f.name.c_str()), f.offset, f.datatype, f.count});
+    sensor_msgs_msg_dds__PointCloud2_ out{};
+    Fill(out.header_, cloud.header);
+    out.height_ = cloud.height;
+    out.width_ = cloud.width;
+    Borrow(out.fields_, fields);
+    out.is_bigendian_ = cloud.is_bigendian;
+    out.point_step_ = cloud.point_step;
+    out.row_step_ = cloud.row_step;
+    Borrow(out.data_, cloud.data);
+    out.is_dense_ = cloud.is_dense;
+    Write(cloud_, &out);
   }
 
   std::string Json() const {
@@ -174,6 +188,7 @@ class Player {
 
   dds_entity_t participant_;
   bool compressed_;
+  std::optional<CameraParams> camera_;  // from the log's CAMERA_INFO
   dds_qos_t* qos_;
   Writer image_, cloud_, info_;
 };

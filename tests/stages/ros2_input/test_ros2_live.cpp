@@ -11,10 +11,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <regex>
 #include <thread>
 
 #include "formats/result_file.hpp"
+#include "fusecal/station_t.hpp"
+#include "runtime/lcm_log.hpp"
 #include "support/process_utils.hpp"
 
 namespace fusecal {
@@ -94,9 +97,20 @@ class Ros2Live : public ::testing::Test {
     EXPECT_EQ(WEXITSTATUS(status), 0) << output;  // converged and written
     EXPECT_NE(output.find("converged: written to " + out + "/extrinsic.yaml"), std::string::npos) << output;
 
+    // The same stations (the frames each was taken from) give the same extrinsic. Under load a frame can
+    // be missed (best effort) or skipped (a busy stage's queue), and another frame makes the station:
+    // then the answer is close, not equal.
     const CalibrationResult live = ReadResultFile(out + "/extrinsic.yaml");
-    EXPECT_LT((live.T_camera_lidar.matrix() - reference_.T_camera_lidar.matrix()).cwiseAbs().maxCoeff(), 1e-6)
-        << "live:\n" << live.T_camera_lidar.matrix() << "\ncalibrate:\n" << reference_.T_camera_lidar.matrix() << "\n" << output;
+    const double difference = (live.T_camera_lidar.matrix() - reference_.T_camera_lidar.matrix()).cwiseAbs().maxCoeff();
+    const auto stations = Stations(out + "/session.lcmlog"), expected = Stations(Dir() + "/ref/session.lcmlog");
+    if (stations == expected) {
+      EXPECT_LT(difference, 1e-6) << "live:\n" << live.T_camera_lidar.matrix() << "\ncalibrate:\n"
+                                  << reference_.T_camera_lidar.matrix() << "\n" << output;
+    } else {
+      std::cout << "stations differ from calibrate's (frames missed under load): " << stations.size() << " vs "
+                << expected.size() << "; largest difference in T " << difference << "\n";
+      EXPECT_LT(difference, 0.05) << output;
+    }
 
     // {"parent":"camera","child":"lidar","stamp":[..],"t":[x,y,z],"q":[x,y,z,w]}
     ASSERT_EQ(tf.exit_code, 0) << tf.output;
@@ -110,6 +124,19 @@ class Ros2Live : public ::testing::Test {
     EXPECT_NE(tf.output.find("\"parent\":\"camera\",\"child\":\"lidar\""), std::string::npos) << tf.output;
     EXPECT_LT((t - live.T_camera_lidar.translation()).norm(), 1e-12) << tf.output;
     EXPECT_LT((q.toRotationMatrix() - live.T_camera_lidar.linear()).cwiseAbs().maxCoeff(), 1e-12) << tf.output;
+  }
+
+  // (image stamp, scan stamp) of every station of a session log.
+  static std::vector<std::pair<int64_t, int64_t>> Stations(const std::string& session_log) {
+    std::vector<std::pair<int64_t, int64_t>> stations;
+    LogReader reader(session_log);
+    while (auto event = reader.Next()) {
+      if (event->channel != "STATION") continue;
+      station_t station{};
+      if (station.decode(event->data.data(), 0, static_cast<int>(event->data.size())) >= 0)
+        stations.emplace_back(station.image.utime, station.cloud.utime);
+    }
+    return stations;
   }
 
   static std::string log_;
@@ -142,8 +169,9 @@ TEST_F(Ros2Live, NoPublisherEndsWithWhatTheDomainHas) {
                             "/lidar/points (sensor_msgs/msg/PointCloud2), /camera/camera_info"),
             std::string::npos)
       << run.output;
-  // The only writer on the domain is the run's own tf publisher.
-  EXPECT_NE(run.output.find("the domain has: /tf_static (tf2_msgs/msg/TFMessage). Set ros2_input.image_topic"),
+  // The only writers on the domain are the run's own (fusecal-ros2-tf).
+  EXPECT_NE(run.output.find("the domain has: /diagnostics (diagnostic_msgs/msg/DiagnosticArray), /fusecal/overlay "
+                            "(sensor_msgs/msg/Image), /tf_static (tf2_msgs/msg/TFMessage). Set ros2_input.image_topic"),
             std::string::npos)
       << run.output;
 }

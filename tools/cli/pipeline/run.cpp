@@ -363,10 +363,13 @@ class PipelineRun {
       bus_->Handle(20);
     if (player_) PublishPlayerStatus("done");  // again, in case the first was lost
     report_.stage_counters = session_.stage_counters();
+    // A live ROS 2 robot: realtime factors against the span of the sensor stamps it sent.
+    if (options_.ros2 && report_.stage_counters.count("ros2_input"))
+      report_.span_s = StageCounter(report_.stage_counters.at("ros2_input"), "stream_span_s");
     report_.bus_dropped = static_cast<double>(bus_->dropped_messages());
     for (const auto& [name, counters] : report_.stage_counters)
       report_.bus_dropped += StageCounter(counters, "bus_dropped");
-    report_.span_s = first_utime_ < 0 ? 0.0 : (last_utime_ - first_utime_) * 1e-6;
+    if (player_) report_.span_s = first_utime_ < 0 ? 0.0 : (last_utime_ - first_utime_) * 1e-6;
     session_.Close();
     report_.outputs = WriteCalibrationOutputs(session_, options_.out_dir);
     AddOutputFile(&report_.outputs,
