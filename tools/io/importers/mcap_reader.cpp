@@ -56,14 +56,20 @@ void McapCursor::ReleasePrevious() {
   if (!has_previous_) return;
   has_previous_ = false;
   const uint32_t chunk = reader_.index_->messages[order_[next_ - 1]].chunk;
-  if (chunk != kNoChunk && --pending_[chunk] == 0) std::vector<uint8_t>().swap(chunk_data_[chunk]);
+  if (chunk != kNoChunk && --pending_[chunk] == 0) {
+    spare_.swap(chunk_data_[chunk]);
+    std::vector<uint8_t>().swap(chunk_data_[chunk]);
+  }
 }
 
 const uint8_t* McapCursor::ChunkData(uint32_t chunk) {
   std::vector<uint8_t>& data = chunk_data_[chunk];
   if (!data.empty()) return data.data();
   const ChunkLocation& location = reader_.index_->chunks[chunk];
-  std::vector<uint8_t> stored = reader_.source_->Read(location.stored_offset, location.stored_size);
+  std::vector<uint8_t> stored = std::move(spare_);
+  spare_.clear();
+  stored.resize(location.stored_size);
+  reader_.source_->ReadAt(location.stored_offset, location.stored_size, stored.data());
   try {
     data = ChunkRecords(location.compression, std::move(stored), location.uncompressed_size,
                         reader_.limits_.max_chunk_bytes);
