@@ -1,5 +1,5 @@
-// `fusecal run --ros2` against a ROS 2 robot played by a peer of another DDS stack or of Cyclone with
-// rosidl's types: a simulated recording (tiny-pinhole) published as sensor_msgs topics at recorded pace
+// `fusecal run --ros2` against a ROS 2 robot played by a peer on Fast DDS (ROS 2's default middleware,
+// its own implementation) or on Cyclone with rosidl's types: a simulated recording (tiny-pinhole) published as sensor_msgs topics at recorded pace
 // gives the extrinsic `fusecal calibrate` gives on the same log (same stations, so within 1e-6), and a
 // reader of rt/tf_static that joins late gets it. Without the sensor topics the run ends with the list of
 // what the domain has, exit 1.
@@ -154,11 +154,14 @@ TEST_F(Ros2Live, CyclonePeerReliableCompressedImages) {
   CalibrateLive(CYCLONE_PEER_BIN, 73, "--reliable --compressed", "/camera/image_raw/compressed");
 }
 
-#ifdef FASTDDS_PEER_BIN
+// ROS 2's default middleware, reliable (its peer's default) with raw images.
 TEST_F(Ros2Live, FastDdsPeerAsRos2sDefaultMiddleware) {
   CalibrateLive(FASTDDS_PEER_BIN, 74, "");
 }
-#endif
+
+TEST_F(Ros2Live, FastDdsPeerBestEffortCompressedImages) {
+  CalibrateLive(FASTDDS_PEER_BIN, 76, "--best-effort --compressed", "/camera/image_raw/compressed");
+}
 
 TEST_F(Ros2Live, NoPublisherEndsWithWhatTheDomainHas) {
   const std::string out = Dir() + "/silent";
