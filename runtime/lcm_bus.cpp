@@ -1,5 +1,8 @@
 #include "runtime/lcm_bus.hpp"
 
+#include <cerrno>
+#include <cstring>
+
 #include <lcm/lcm.h>
 
 #include <algorithm>
@@ -97,10 +100,13 @@ void LcmBus::Deliver(Slot& slot, const char* channel, const uint8_t* data, size_
 int LcmBus::Handle(int timeout_ms) {
   handled_ = 0;
   // Wait for the first message, then drain whatever else is already queued.
+  errno = 0;
   int status = lcm_handle_timeout(lcm_, std::max(0, timeout_ms));
   while (status > 0 && !pending_error_) status = lcm_handle_timeout(lcm_, 0);
-  if (status < 0 && url_.rfind("file://", 0) != 0)  // file://: the log is exhausted
-    throw BusError("LCM handle failed on " + url_ + " (socket error)");
+  // A signal (Ctrl-C) interrupting the wait is not a socket error; file://: the log is exhausted.
+  if (status < 0 && errno != EINTR && url_.rfind("file://", 0) != 0)
+    throw BusError("LCM handle failed on " + url_ + " (socket error: " +
+                   (errno ? std::string(std::strerror(errno)) : std::string("unknown")) + ")");
   if (pending_error_) {
     std::exception_ptr error = pending_error_;
     pending_error_ = nullptr;

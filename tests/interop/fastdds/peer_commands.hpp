@@ -1,0 +1,37 @@
+// The commands of fastdds_ros2_peer (fastdds_ros2_peer.cpp parses them). Each returns the exit code and
+// throws std::runtime_error for what stops it before it could start.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace fusecal::fastdds_peer {
+
+struct PlayOptions {
+  std::string log;
+  int domain = 0;
+  double speed = 1;  // 0: as fast as possible
+  bool best_effort = false;
+  bool compressed = false;
+  std::string image_topic = "/camera/image_raw";
+  std::string cloud_topic = "/lidar/points";
+  std::string camera_info_topic = "/camera/camera_info";
+  double wait_s = 20;
+  double settle_s = 3;  // after every topic has a reader, before the first message
+};
+
+// Publishes the log's CAMERA_INFO, CAMERA_IMAGE and LIDAR_SCAN as sensor_msgs topics at the recorded
+// pace, once every topic has a matched reader; prints {"published": {topic: n, ...}, "seconds": s}.
+int Play(const PlayOptions& options);
+
+// Prints each transform a late-joining reader of rt/tf_static receives, one JSON line each, until
+// `count` transforms; 1 after `timeout_s` without them.
+int TfListen(int domain, double timeout_s, int count);
+
+// Counts the messages and serialized bytes on `topics` ("/name" or "/name:Type", Type one of Image,
+// CompressedImage, PointCloud2, CameraInfo; without it, the type follows from the name) for `seconds`,
+// or until `idle_s` after the last message; prints {"received": {topic: {"messages": n, "bytes": b}},
+// "seconds": s}.
+int Count(int domain, double seconds, double idle_s, bool best_effort, const std::vector<std::string>& topics);
+
+}  // namespace fusecal::fastdds_peer

@@ -1,0 +1,180 @@
+// `play`: a recording published as a ROS 2 camera and LiDAR driver on Fast DDS would publish it.
+#include <chrono>
+#include <cstdio>
+#include <opencv2/imgcodecs.hpp>
+#include <optional>
+#include <stdexcept>
+#include <thread>
+
+#include "fastdds_domain.hpp"
+#include "fastdds_generated/ros2_messagesPubSubTypes.h"
+#include "formats/conversions.hpp"
+#include "formats/ros_sensor_encode.hpp"
+#include "fusecal/camera_info_t.hpp"
+#include "fusecal/image_t.hpp"
+#include "fusecal/point_cloud_t.hpp"
+#include "peer_commands.hpp"
+#include "ros2_fastdds_types.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/lcm_log.hpp"
+
+namespace fusecal::fastdds_peer {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct Stream {
+  std::string topic;  // the ROS name
+  dds::DataWriter* writer = nullptr;
+  long sent = 0;
+};
+
+class Player {
+ public:
+  Player(FastDdsDomain& domain, const PlayOptions& options) : compressed_(options.compressed) {
+    const dds::DataWriterQos qos = SensorWriterQos(!options.best_effort);
+    info_ = Make<ros_sensor::CameraInfo_PubSubType>(domain, options.camera_info_topic, qos);
+    if (compressed_)
+      image_ = Make<ros_sensor::CompressedImage_PubSubType>(domain, options.image_topic + "/compressed", qos);
+    else
+      image_ = Make<ros_sensor::Image_PubSubType>(domain, options.image_topic, qos);
+    cloud_ = Make<ros_sensor::PointCloud2_PubSubType>(domain, options.cloud_topic, qos);
+  }
+
+  // True once every writer has a matched reader; else false after `seconds`, with the topics that have
+  // none in `missing`.
+  bool WaitForReaders(double seconds, std::string* missing) {
+    const auto end = Clock::now() + std::chrono::duration<double>(seconds);
+    for (;;) {
+      missing->clear();
+      for (const Stream* s : {&info_, &image_, &cloud_}) {
+        dds::PublicationMatchedStatus status;
+        s->writer->get_publication_matched_status(status);
+        if (status.current_count == 0) *missing += (missing->empty() ? "" : ", ") + s->topic;
+      }
+      if (missing->empty()) return true;
+      if (Clock::now() > end) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  }
+
+  void Send(const LogEvent& event) {
+    const int size = static_cast<int>(event.data.size());
+    // The camera model goes out beside every image, stamped like it, as camera drivers publish it.
+    if (event.channel == channels::kCameraInfo) {
+      camera_info_t msg{};
+      if (msg.decode(event.data.data(), 0, size) >= 0) camera_ = CameraFromMsg(msg);
+    } else if (event.channel == channels::kCameraImage) {
+      image_t msg{};
+      if (msg.decode(event.data.data(), 0, size) < 0) return;
+      if (camera_) {
+        auto info = ToFastDds(ToRosCameraInfo(*camera_, RosHeader{UtimeToRosStamp(msg.utime), "camera"}));
+        Write(info_, &info);
+      }
+      SendImage(msg);
+    } else if (event.channel == channels::kLidarScan) {
+      point_cloud_t msg{};
+      if (msg.decode(event.data.data(), 0, size) < 0) return;
+      auto out = ToFastDds(ToRosPointCloud2(CloudFromMsg(msg), RosHeader{UtimeToRosStamp(msg.utime), "lidar"}));
+      Write(cloud_, &out);
+    }
+  }
+
+  // Waits, at most `seconds` in all, until the reliable readers have acknowledged every sample; the
+  // topics that still have unacknowledged samples go to `late`.
+  bool WaitForAcknowledgments(double seconds, std::string* late) {
+    const auto end = Clock::now() + std::chrono::duration<double>(seconds);
+    late->clear();
+    for (const Stream* s : {&info_, &image_, &cloud_}) {
+      const double left = std::max(0.0, std::chrono::duration<double>(end - Clock::now()).count());
+      if (s->writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(left)) !=
+          eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK)
+        *late += (late->empty() ? "" : ", ") + s->topic;
+    }
+    return late->empty();
+  }
+
+  std::string Json() const {
+    std::string text = "{";
+    for (const Stream* s : {&info_, &image_, &cloud_})
+      text += std::string(text.size() > 1 ? ", " : "") + "\"" + s->topic + "\": " + std::to_string(s->sent);
+    return text + "}";
+  }
+
+ private:
+  template <typename PubSubType>
+  static Stream Make(FastDdsDomain& domain, const std::string& topic, const dds::DataWriterQos& qos) {
+    return Stream{topic, domain.Writer(domain.Topic<PubSubType>(topic), qos), 0};
+  }
+
+  void SendImage(const image_t& msg) {
+    const RosHeader header{UtimeToRosStamp(msg.utime), "camera"};
+    if (!compressed_) {
+      auto out = ToFastDds(ToRosImage(ImageToMat(msg), header));
+      Write(image_, &out);
+      return;
+    }
+    // jpeg and png pass through as they are; raw images become png (lossless).
+    std::vector<uint8_t> bytes = msg.data;
+    std::string encoding = msg.encoding;
+    if (encoding != "jpeg" && encoding != "png") {
+      cv::imencode(".png", ImageToMat(msg), bytes);
+      encoding = "png";
+    }
+    auto out = ToFastDds(ToRosCompressedImage(bytes, encoding, header));
+    Write(image_, &out);
+  }
+
+  static void Write(Stream& s, void* sample) {
+    if (!s.writer->write(sample)) throw std::runtime_error("writing " + s.topic + " failed");
+    ++s.sent;
+  }
+
+  bool compressed_;
+  std::optional<CameraParams> camera_;  // from the log's CAMERA_INFO
+  Stream info_, image_, cloud_;
+};
+
+}  // namespace
+
+int Play(const PlayOptions& options) {
+  LogReader log(options.log);
+  FastDdsDomain domain(options.domain);
+  Player player(domain, options);
+  std::string missing;
+  if (!player.WaitForReaders(options.wait_s, &missing)) {
+    std::fprintf(stderr, "fastdds_ros2_peer: no reader matched %s in ROS 2 domain %d within %g s\n", missing.c_str(),
+                 options.domain, options.wait_s);
+    return 1;
+  }
+  // The match seen here comes before the reader's side has matched this writer, and until then it drops
+  // what this writer sends (the log's one CAMERA_INFO, the first frames). A Cyclone DDS reader started
+  // with this peer matched it 0.5 to 1 s later (Fast DDS repeats its discovery data each second); the
+  // default leaves a margin for a loaded machine.
+  std::this_thread::sleep_for(std::chrono::duration<double>(options.settle_s));
+  const auto start = Clock::now();
+  int64_t first = -1;
+  while (auto event = log.Next()) {
+    if (event->channel != channels::kCameraInfo && event->channel != channels::kCameraImage &&
+        event->channel != channels::kLidarScan)
+      continue;
+    if (first < 0) first = event->utime;
+    if (options.speed > 0) {
+      const auto offset = std::chrono::microseconds(static_cast<int64_t>((event->utime - first) / options.speed));
+      std::this_thread::sleep_until(start + offset);
+    }
+    player.Send(*event);
+  }
+  std::string late;
+  const bool acknowledged = player.WaitForAcknowledgments(10, &late);
+  std::printf("{\"published\": %s, \"seconds\": %.3f}\n", player.Json().c_str(),
+              std::chrono::duration<double>(Clock::now() - start).count());
+  std::fflush(stdout);
+  if (!acknowledged) {
+    std::fprintf(stderr, "fastdds_ros2_peer: samples on %s were not acknowledged within 10 s\n", late.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace fusecal::fastdds_peer
