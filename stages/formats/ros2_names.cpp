@@ -15,6 +15,15 @@ std::string RosTopicToDds(const std::string& ros_topic) {
   return "rt/" + name;
 }
 
+std::string RosTopicProblem(const std::string& key, const std::string& topic) {
+  try {
+    RosTopicToDds(topic);
+    return {};
+  } catch (const std::invalid_argument& e) {
+    return key + ": " + e.what();
+  }
+}
+
 std::string DdsTopicToRos(const std::string& dds_topic) {
   return dds_topic.rfind("rt/", 0) == 0 ? dds_topic.substr(2) : dds_topic;
 }

@@ -14,6 +14,8 @@ struct Ros2TopicSeen {
 // "/camera/image_raw" or "camera/image_raw" -> "rt/camera/image_raw". Throws std::invalid_argument for
 // an empty name or one with characters ROS does not allow (letters, digits, '_' and '/').
 std::string RosTopicToDds(const std::string& ros_topic);
+// For settings: empty when `topic` is a ROS topic name, else "<key>: <what is wrong>".
+std::string RosTopicProblem(const std::string& key, const std::string& topic);
 // "rt/camera/image_raw" -> "/camera/image_raw"; any other DDS topic name is returned as it is.
 std::string DdsTopicToRos(const std::string& dds_topic);
 // "sensor_msgs::msg::dds_::Image_" -> "sensor_msgs/msg/Image"; any other type name as it is.

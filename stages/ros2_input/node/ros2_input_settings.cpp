@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 #include "formats/ros2_names.hpp"
 
@@ -25,20 +24,10 @@ std::string Ros2InputSettings::CameraInfoTopic() const {
 std::string Ros2InputSettings::Validate() const {
   if (domain < 0 || domain > 232) return "domain: must be in [0, 232]";
   for (const auto& [key, topic] : {std::pair<const char*, const std::string*>{"image_topic", &image_topic},
-                                   {"cloud_topic", &cloud_topic}}) {
-    try {
-      RosTopicToDds(*topic);
-    } catch (const std::invalid_argument& e) {
-      return std::string(key) + ": " + e.what();
-    }
-  }
-  if (!camera_info_topic.empty()) {
-    try {
-      RosTopicToDds(camera_info_topic);
-    } catch (const std::invalid_argument& e) {
-      return std::string("camera_info_topic: ") + e.what();
-    }
-  }
+                                   {"cloud_topic", &cloud_topic}})
+    if (std::string problem = RosTopicProblem(key, *topic); !problem.empty()) return problem;
+  if (!camera_info_topic.empty())
+    if (std::string problem = RosTopicProblem("camera_info_topic", camera_info_topic); !problem.empty()) return problem;
   if (image_topic == cloud_topic) return "image_topic and cloud_topic must differ";
   if (!(topic_timeout_s > 0) || !std::isfinite(topic_timeout_s)) return "topic_timeout_s: must be a number > 0";
   if (!(max_message_mb > 0 && max_message_mb <= 1000)) return "max_message_mb: must be in (0, 1000]";

@@ -1,7 +1,5 @@
 #include "ros2_tf/node/ros2_tf_settings.hpp"
 
-#include <stdexcept>
-
 #include "formats/ros2_names.hpp"
 
 namespace fusecal {
@@ -10,13 +8,7 @@ std::string Ros2TfSettings::Validate() const {
   if (domain < 0 || domain > 232) return "domain: must be in [0, 232]";
   if (parent_frame.empty() || child_frame.empty() || parent_frame == child_frame)
     return "parent_frame and child_frame must be two different, non-empty frame ids";
-  if (!overlay_topic.empty()) {
-    try {
-      RosTopicToDds(overlay_topic);
-    } catch (const std::invalid_argument& e) {
-      return std::string("overlay_topic: ") + e.what();
-    }
-  }
+  if (!overlay_topic.empty()) return RosTopicProblem("overlay_topic", overlay_topic);
   return {};
 }
 
