@@ -398,12 +398,47 @@ std::vector<BadCase> OutputAndSizeCases() {
   return c;
 }
 
+// The pipeline's own config with one piece of text replaced.
+void ConfigReplacing(const std::string& name, const std::string& from, const std::string& to) {
+  std::string text = ReadAll(kConfig);
+  const size_t at = text.find(from);
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  WriteAll(In(name), text);
+}
+
+// A live ROS 2 robot: flags that cannot go together, ROS 2 settings out of range, a file that is not a bag.
+std::vector<BadCase> Ros2Cases() {
+  std::vector<BadCase> c;
+  c.push_back({"RunRos2WithALog", [] {}, "run --ros2 --log " + GoodLog() + " --out " + In("ros2-log"),
+               "--ros2 takes the sensors from a running ROS 2 robot"});
+  c.push_back({"Ros2InputTopicWithASpace",
+               [] { ConfigReplacing("r1.yaml", "image_topic: /camera/image_raw", "image_topic: \"/camera image\""); },
+               "run --ros2 --config " + In("r1.yaml") + " --out " + In("r1"), "has a character ROS does not allow"});
+  c.push_back({"Ros2InputDomainOutOfRange",
+               [] { ConfigReplacing("r2.yaml", "ros2_input:\n  domain: 0", "ros2_input:\n  domain: 500"); },
+               "run --ros2 --config " + In("r2.yaml") + " --out " + In("r2"), "'ros2_input.domain' must be in [0, 232]"});
+  c.push_back({"DoctorRos2WithABadConfig",
+               [] { ConfigReplacing("r3.yaml", "topic_timeout_s: 15", "topic_timeout_s: -1"); },
+               "doctor --ros2 --config " + In("r3.yaml"), "topic_timeout_s"});
+  c.push_back({"Ros2TfOverlayTopicWithASpace",
+               [] { ConfigReplacing("r4.yaml", "overlay_topic: /fusecal/overlay", "overlay_topic: \"/fusecal/over lay\""); },
+               "run --ros2 --config " + In("r4.yaml") + " --out " + In("r4"), "overlay_topic"});
+  c.push_back({"ImportRosbagMcapThatIsText", [] { WriteAll(In("text.mcap"), "not a bag at all\n"); },
+               "import rosbag " + In("text.mcap") + " --image-topic /a --cloud-topic /b --out " + In("text.lcmlog"),
+               "not an MCAP file (no MCAP magic) at offset 0"});
+  c.push_back({"ImportRosbagDb3ThatIsText", [] { WriteAll(In("text.db3"), "not a database\n"); },
+               "import rosbag " + In("text.db3") + " --image-topic /a --cloud-topic /b --out " + In("text2.lcmlog"),
+               "text.db3"});
+  return c;
+}
+
 std::vector<BadCase> AllCases() {
   std::vector<BadCase> all = Cases();
   for (auto& c : EdgeCases()) all.push_back(std::move(c));
   for (auto& c : StrictYamlCases()) all.push_back(std::move(c));
   for (auto& c : BusUrlCases()) all.push_back(std::move(c));
   for (auto& c : OutputAndSizeCases()) all.push_back(std::move(c));
+  for (auto& c : Ros2Cases()) all.push_back(std::move(c));
   return all;
 }
 
