@@ -17,8 +17,10 @@ namespace fusecal {
 namespace {
 
 constexpr int kTakeBatch = 8;
-// CAMERA_INFO is state: sent again this often, so that a stage started later (or restarted) has it.
-constexpr int64_t kCameraInfoRepeatUs = 5000000;
+// CAMERA_INFO is state: sent again every second, so that a stage started later (or restarted) has it
+// before its first station (with 5 s, a stationarity stage that came up after the first one dropped its
+// first two stations for want of it).
+constexpr int64_t kCameraInfoRepeatUs = 1000000;
 
 const dds_topic_descriptor_t* DescriptorOf(Ros2SensorTopic kind) {
   switch (kind) {
