@@ -51,6 +51,21 @@ void FusionOdometryNode::OnStation(const station_t& station) {
   cached.cloud = CloudFromMsg(station.cloud);
   cached.camera = MakeCameraModel(CameraFromMsg(station.camera));
   stations_[station.id] = std::move(cached);
+  retention_.OnStation(station.id);
+  EvictStations();
+}
+
+void FusionOdometryNode::EvictStations() {
+  const int dropped = retention_.Evict(&stations_);
+  if (dropped == 0) return;
+  stations_dropped_ += dropped;
+  const auto gone = [this](const PairKey& pair) { return !retention_.Keep(pair.first) || !retention_.Keep(pair.second); };
+  const auto erase_pairs = [&gone](auto* map) {
+    for (auto it = map->begin(); it != map->end();) it = gone(it->first) ? map->erase(it) : std::next(it);
+  };
+  erase_pairs(&lidar_motions_);
+  erase_pairs(&last_camera_motions_);
+  erase_pairs(&last_computed_);
 }
 
 motion_t FusionOdometryNode::ComputeMotion(int i, int j, const Isometry3& X, int version,
@@ -136,6 +151,8 @@ std::vector<motion_t> FusionOdometryNode::ComputeMotions(const extrinsic_t& extr
 }
 
 void FusionOdometryNode::OnExtrinsic(Bus& bus, const extrinsic_t& extrinsic) {
+  retention_.OnExtrinsic(extrinsic);
+  EvictStations();
   if (const auto cached = answered_.find(extrinsic.version); cached != answered_.end()) {
     ++repeats_;
     bus.Publish(channels::kFusedMotions, cached->second);
@@ -189,7 +206,8 @@ StageStatus FusionOdometryNode::Status() const {
   StageStatus s;
   s.counters = {{"stations", double(stations_.size())}, {"motions", motions_}, {"failures", failures_},
                 {"repeats", repeats_},                  {"version", newest_answered_},
-                {"answered_without_inputs", answered_without_inputs_}, {"reused", double(reused_)}};
+                {"answered_without_inputs", answered_without_inputs_}, {"reused", double(reused_)},
+                {"stations_dropped", double(stations_dropped_)}};
   work_.AddTo(&s.counters);  // items: motions computed (one per pair and iteration)
   return s;
 }

@@ -2,6 +2,8 @@
 // refinement) recomputes the metric camera motion of every station pair the extrinsic used, warm-started
 // from the previous version's motion, and publishes one FUSED_MOTIONS for version k. A repeated version
 // is answered again from cache; versions older than the newest answered one are ignored.
+// In a long session only the stations of the pairs the hand-eye stage holds and the newest ones are kept
+// (StationRetention), so memory stays bounded.
 #pragma once
 
 #include <map>
@@ -12,6 +14,7 @@
 #include "fusecal/motion_set_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "fusion_odometry/fusion_odometry.hpp"
+#include "node_kit/station_retention.hpp"
 #include "runtime/config_reader.hpp"
 #include "runtime/stage_main.hpp"
 #include "runtime/work_stats.hpp"
@@ -54,6 +57,8 @@ class FusionOdometryNode : public StageNode {
   bool HasInputsFor(const extrinsic_t& extrinsic) const;
   bool Reusable(const PairKey& pair, const Isometry3& X) const;
   void AnswerPendingIfReady(Bus& bus, bool waited_enough);
+  // Drops the stations StationRetention does not keep, and what is cached for their pairs.
+  void EvictStations();
 
   FusionOdometryNodeSettings settings_;
   std::map<int, CachedStation> stations_;
@@ -70,6 +75,8 @@ class FusionOdometryNode : public StageNode {
   };
   std::map<PairKey, Computed> last_computed_;
   long reused_ = 0;
+  StationRetention retention_;
+  long stations_dropped_ = 0;
   std::vector<Subscription> subscriptions_;
   int motions_ = 0, failures_ = 0, repeats_ = 0;
   WorkStats work_;

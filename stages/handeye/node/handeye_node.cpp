@@ -1,8 +1,10 @@
 #include "handeye/node/handeye_node.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
+#include "handeye/motion_selection.hpp"
 #include "handeye/node/result_conversion.hpp"
 #include "runtime/channels.hpp"
 #include "formats/conversions.hpp"
@@ -36,6 +38,8 @@ std::string HandEyeNodeSettings::Validate() const {
   if (!Positive(tolerance_translation_m)) return "tolerance_translation_m: must be positive";
   if (max_iterations < 1 || max_iterations > 1000) return "max_iterations: must be in [1, 1000]";
   if (!NonNegative(retry_s)) return "retry_s: must not be negative";
+  if (max_motions < std::max(2, solver.min_pairs) || max_motions > 100000)
+    return "max_motions: must be in [min_pairs, 100000] (min_pairs is " + std::to_string(solver.min_pairs) + ")";
   const std::string solver_problem = solver.Validate();
   return solver_problem.empty() ? solver_problem : "solver." + solver_problem;
 }
@@ -47,6 +51,7 @@ HandEyeNodeSettings ReadHandEyeNodeSettings(ConfigReader r) {
   r.Get("max_iterations", &s.max_iterations);
   r.Get("retry_s", &s.retry_s);
   r.Get("scaled_refinement", &s.scaled_refinement);
+  r.Get("max_motions", &s.max_motions);
   r.Get("max_angle_difference_deg", &s.solver.max_angle_difference_deg);
   r.Get("min_rotation_deg", &s.solver.min_rotation_deg);
   r.Get("min_pairs", &s.solver.min_pairs);
@@ -67,6 +72,7 @@ void HandEyeNode::Start(Bus& bus) {
 
 void HandEyeNode::OnMotion(Bus& bus, const motion_t& motion) {
   const PairKey key{motion.station_i, motion.station_j};
+  if (dropped_.count(key)) return;  // a repeat (after a restart) of a pair dropped for good
   auto& store = motion.sensor == "camera" ? camera_motions_ : lidar_motions_;
   const bool known = store.count(key) > 0;
   store[key] = motion;
@@ -74,7 +80,36 @@ void HandEyeNode::OnMotion(Bus& bus, const motion_t& motion) {
   // A new usable pair completes a motion: start a new round of the alternation.
   const auto other = motion.sensor == "camera" ? lidar_motions_.find(key) : camera_motions_.find(key);
   const auto& others = motion.sensor == "camera" ? lidar_motions_ : camera_motions_;
-  if (other != others.end() && other->second.valid) StartRound(bus);
+  if (other == others.end() || !other->second.valid) return;
+  LimitPairs();
+  StartRound(bus);
+}
+
+void HandEyeNode::LimitPairs() {
+  const std::vector<MotionPair> pairs = ScalelessPairs();
+  if (static_cast<int>(pairs.size()) <= settings_.max_motions) return;
+  const std::vector<int> keep =
+      SelectInformativePairs(pairs, settings_.max_motions, settings_.solver.nominal_rotation_sigma_deg);
+  std::set<int> kept(keep.begin(), keep.end());
+  for (int k = 0; k < static_cast<int>(pairs.size()); ++k) {
+    if (kept.count(k)) continue;
+    const PairKey key{pairs[k].station_i, pairs[k].station_j};
+    camera_motions_.erase(key);
+    lidar_motions_.erase(key);
+    dropped_.insert(key);
+  }
+}
+
+void HandEyeNode::ListHeldPairs(extrinsic_t* msg) const {
+  std::set<PairKey> listed;
+  for (int k = 0; k < msg->num_used; ++k) listed.insert({msg->used_station_i[k], msg->used_station_j[k]});
+  for (int k = 0; k < msg->num_rejected; ++k) listed.insert({msg->rejected_station_i[k], msg->rejected_station_j[k]});
+  for (const auto& p : ScalelessPairs()) {
+    if (listed.count({p.station_i, p.station_j})) continue;
+    msg->rejected_station_i.push_back(p.station_i);
+    msg->rejected_station_j.push_back(p.station_j);
+  }
+  msg->num_rejected = static_cast<int32_t>(msg->rejected_station_i.size());
 }
 
 bool HandEyeNode::PairWithLidar(const motion_t& camera, MotionPair* pair) const {
@@ -179,14 +214,6 @@ void HandEyeNode::OnFusedMotions(Bus& bus, const motion_set_t& set) {
 
 void HandEyeNode::Publish(Bus& bus, const HandEyeResult& result, int8_t status, Change change, bool ask) {
   extrinsic_t msg = ToExtrinsicMessage(result, ++version_, NowUtime());
-  if (msg.num_used == 0 && msg.num_rejected == 0) {
-    // A solve that used nothing (too few motions) lists the pairs it had as not used.
-    for (const auto& p : ScalelessPairs()) {
-      msg.rejected_station_i.push_back(p.station_i);
-      msg.rejected_station_j.push_back(p.station_j);
-    }
-    msg.num_rejected = static_cast<int32_t>(msg.rejected_station_i.size());
-  }
   if (ask && initial_) {
     // Fusion odometry computes the pairs a request lists: all that the newest scaleless solve used.
     const extrinsic_t pairs = ToExtrinsicMessage(*initial_, 0, 0);
@@ -194,6 +221,9 @@ void HandEyeNode::Publish(Bus& bus, const HandEyeResult& result, int8_t status, 
     msg.used_station_i = pairs.used_station_i;
     msg.used_station_j = pairs.used_station_j;
   }
+  // Pairs that this solve did not take (too few motions, not asked for, rejected before) are listed as not
+  // used: stations of the held pairs are kept by fusion odometry and the coordinator by this list.
+  ListHeldPairs(&msg);
   msg.status = status;
   msg.converged = status == extrinsic_t::STATUS_CONVERGED;
   msg.iteration = iteration_;
@@ -221,7 +251,8 @@ StageStatus HandEyeNode::Status() const {
                 {"pairs", double(ScalelessPairs().size())},
                 {"version", version_},
                 {"iteration", iteration_},
-                {"retries", retries_}};
+                {"retries", retries_},
+                {"dropped_motions", double(dropped_.size())}};
   work_.AddTo(&s.counters);  // items: solves
   return s;
 }

@@ -4,9 +4,13 @@
 //   ->  solve the scaled extrinsic  ->  publish version k+1 ... until the change is below tolerance.
 // New motions resume the alternation from the current estimate (online refinement). An unanswered
 // version is republished after `retry_s` (idempotent: fusion odometry answers repeats from cache).
+// At most `max_motions` pairs are held; beyond, the least informative are dropped for good
+// (SelectInformativePairs), so that a round costs the same after an hour as after ten minutes. Every
+// EXTRINSIC lists all held pairs, as used or rejected (other stages keep their stations by that list).
 #pragma once
 
 #include <map>
+#include <set>
 #include <optional>
 
 #include "fusecal/extrinsic_t.hpp"
@@ -25,6 +29,7 @@ struct HandEyeNodeSettings {
   int max_iterations = 15;               // scaled iterations per round
   double retry_s = 3.0;                  // republish an unanswered version after this (0: never)
   bool scaled_refinement = true;         // false: stop at the scaleless estimate
+  int max_motions = 40;                  // motion pairs held at most (>= solver.min_pairs)
   HandEyeSettings solver;
 
   // Empty when usable, else what is wrong: a field above (tolerances > 0, max_iterations in [1, 1000],
@@ -62,9 +67,14 @@ class HandEyeNode : public StageNode {
   std::vector<MotionPair> ScalelessPairs() const;
   // The pair of a camera motion with the LiDAR motion of the same stations; false when either is bad.
   bool PairWithLidar(const motion_t& camera, MotionPair* pair) const;
+  // Drops pairs beyond max_motions, the least informative first.
+  void LimitPairs();
+  // Lists every held pair that `msg` neither uses nor rejects as rejected.
+  void ListHeldPairs(extrinsic_t* msg) const;
 
   HandEyeNodeSettings settings_;
   std::map<PairKey, motion_t> camera_motions_, lidar_motions_;
+  std::set<PairKey> dropped_;  // pairs dropped by LimitPairs: their repeats are ignored
   std::optional<HandEyeResult> initial_, current_;
   int version_ = 0;
   int awaiting_version_ = -1;  // the version whose FUSED_MOTIONS we wait for, -1: none
