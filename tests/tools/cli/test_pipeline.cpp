@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -257,6 +258,30 @@ TEST(PipelineBadInput, AnUnknownStageInStagesIsNamed) {
   const auto twice = RunCommand(kFusecal + " run --stages handeye,handeye --out " + Temp("bad-stages") + " 2>&1");
   EXPECT_EQ(twice.exit_code, 2) << twice.output;
   EXPECT_NE(twice.output.find("'handeye' is listed twice"), std::string::npos) << twice.output;
+}
+
+// A live-sensor session (raw frames, the detector makes the stations) with the default run.record: its
+// session.lcmlog holds the stations but no raw frame, and `calibrate` on it gives the run's extrinsic.
+TEST(PipelineLongSession, DefaultSessionLogHasNoRawFramesAndReplaysToTheSameExtrinsic) {
+  const std::string log = Temp("raw-streams.lcmlog"), out = Temp("record-default");
+  const auto sim = RunCommand(kFusecal + " simulate --scenario " + kScenarios + "/small-equirect.yaml --out " + log + " 2>&1");
+  ASSERT_EQ(sim.exit_code, 0) << sim.output;
+  const std::string bus = "udpm://239.255.76.67:7691?ttl=0&recv_buf_size=67108864";
+  const auto run = RunCommand(kFusecal + " run --log " + log + " --speed 0 --bus '" + bus + "' --out " + out + " 2>&1");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto info = RunCommand(kFusecal + " log info " + out + "/session.lcmlog 2>&1");
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("STATION  count="), std::string::npos) << info.output;
+  EXPECT_EQ(info.output.find("CAMERA_IMAGE"), std::string::npos) << info.output;
+  EXPECT_EQ(info.output.find("LIDAR_SCAN"), std::string::npos) << info.output;
+  EXPECT_FALSE(std::filesystem::exists(out + "/raw")) << "raw frames recorded";
+  const auto replay = RunCommand(kFusecal + " calibrate --log " + out + "/session.lcmlog --out " + out + "-replay 2>&1");
+  ASSERT_EQ(replay.exit_code, 0) << replay.output;
+  const auto eval = RunCommand(kFusecal + " evaluate --result " + out + "-replay/extrinsic.yaml --truth " + out +
+                               "/extrinsic.yaml");
+  const auto j = nlohmann::json::parse(eval.output);
+  EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-9) << run.output << replay.output;
+  EXPECT_LT(j["trans_err_m"].get<double>(), 1e-9) << run.output << replay.output;
 }
 
 TEST(PipelineBadInput, NoStationsAndOneRotationAxisGiveAVerdictNotACrash) {

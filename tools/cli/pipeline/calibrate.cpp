@@ -86,7 +86,7 @@ CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out
   PipelineConfig in_process = config;
   in_process.handeye.retry_s = 0;  // memq loses nothing; retries would only make runs differ
   in_process.fusion_odometry.input_wait_s = 0;  // memq keeps the order: what is missing never comes
-  SessionRecord session(*bus, out_dir + "/session.lcmlog", false);
+  SessionRecord session(*bus, out_dir, RecordSettings{});  // the stations: the input log has the raw frames
   std::vector<NamedNode> nodes = MakeStageNodes(in_process, use_detector);
   for (auto& n : nodes) n.node->Start(*bus);
   InProcessPipeline pipeline(*bus, nodes, session, progress);

@@ -12,7 +12,7 @@ namespace fusecal {
 namespace {
 
 // The end of the still interval the station was taken in.
-int64_t StationEnd(const SessionRecord& session, const station_t& station) {
+int64_t StationEnd(const SessionRecord& session, const StationTimes& station) {
   if (const auto& truth = session.ground_truth()) {
     for (int k = 0; k < truth->num_stations; ++k)
       if (truth->still_from_utime[k] <= station.utime && station.utime <= truth->still_to_utime[k])

@@ -91,10 +91,17 @@ void WriteConvergence(const SessionRecord& session, const std::optional<Isometry
     out->warnings.push_back("convergence.png not drawn: gnuplot (Debian package gnuplot-nox) failed or is missing");
 }
 
-// One picture per station, drawn in parallel (they are independent).
+// One picture per held station, at most kMaxOverlays spread evenly over them (first and last included),
+// drawn in parallel (they are independent).
+constexpr int kMaxOverlays = 12;
+
 void WriteOverlays(const SessionRecord& session, const Isometry3& X, const std::string& dir, CalibrationOutputs* out) {
+  std::vector<const station_t*> held;
+  for (const auto& [id, station] : session.kept_stations()) held.push_back(&station);
   std::vector<const station_t*> stations;
-  for (const auto& [id, station] : session.stations()) stations.push_back(&station);
+  const int n = static_cast<int>(held.size());
+  for (int k = 0; k < std::min(n, kMaxOverlays); ++k)
+    stations.push_back(held[n <= kMaxOverlays ? k : static_cast<int>(std::lround(k * (n - 1.0) / (kMaxOverlays - 1)))]);
   std::vector<std::string> files(stations.size()), warnings(stations.size());
 #pragma omp parallel for schedule(dynamic, 1)
   for (int k = 0; k < static_cast<int>(stations.size()); ++k) {
@@ -124,8 +131,8 @@ void WriteOverlays(const SessionRecord& session, const Isometry3& X, const std::
 // no pose; binary little-endian PLY.
 void WriteColoredCloud(const SessionRecord& session, const Isometry3& X, const std::string& dir,
                        CalibrationOutputs* out) {
-  if (session.stations().empty()) return;
-  const station_t& station = session.stations().begin()->second;
+  if (session.kept_stations().empty()) return;
+  const station_t& station = session.kept_stations().begin()->second;
   try {
     const cv::Mat image = ImageToMat(station.image);
     cv::Mat bgr;

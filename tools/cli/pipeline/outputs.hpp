@@ -1,9 +1,10 @@
 // The files a calibration leaves in its output folder:
 //   extrinsic.yaml      the common result file, with the scaleless estimate as `initial`
 //   convergence.csv/png per version: change, and error against ground truth when the log has it
-//   overlay-<id>.png    per station: checkerboard of camera and LiDAR intensity images (the paper's
-//                       check) above the camera image with projected points coloured by depth
-//   colored_cloud.ply   station scans coloured from their images, in the frame of the first station
+//   overlay-<id>.png    per station (at most 12, spread over the stations still held): checkerboard of
+//                       camera and LiDAR intensity images (the paper's check) above the camera image
+//                       with projected points coloured by depth
+//   colored_cloud.ply   the scan of the first station held, coloured from its image
 #pragma once
 
 #include <functional>

@@ -32,6 +32,8 @@ PipelineConfig LoadPipelineConfig(const std::string& path) {
   c.ros2_input = ReadRos2InputSettings(root.Child("ros2_input"));
   ConfigReader run = root.Child("run");
   run.Get("idle_timeout_s", &c.idle_timeout_s, Positive<double>());
+  run.Get("record", &c.record.what, OneOf({"all", "stations", "none"}));
+  run.Get("record_max_raw_mb", &c.record.max_raw_mb, Positive<double>());
   run.Finish();
   root.Finish();
   if (c.lidar_icp.previous_stations != c.camera_frontend.previous_stations)

@@ -9,6 +9,7 @@
 #include "ros2_input/node/ros2_input_settings.hpp"
 #include "ros2_tf/node/ros2_tf_settings.hpp"
 #include "lidar_icp/node/lidar_icp_node.hpp"
+#include "pipeline/session_log.hpp"
 #include "stationarity/node/stationarity_node.hpp"
 
 namespace fusecal {
@@ -28,6 +29,7 @@ struct PipelineConfig {
   Ros2TfSettings ros2_tf;
   Ros2InputSettings ros2_input;  // `fusecal run --ros2`
   double idle_timeout_s = 60;
+  RecordSettings record;  // run.record, run.record_max_raw_mb
 };
 
 // Throws ConfigError naming the file and key.

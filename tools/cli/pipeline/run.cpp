@@ -87,7 +87,7 @@ class PipelineRun {
         // (shm_transport.hpp).
         transport_(url_, config.max_message_bytes, config.shm_chunks, options.out_dir, event),
         bus_(MakeBus(transport_.coordinator_url())),
-        session_(*bus_, options.out_dir + "/session.lcmlog", true),
+        session_(*bus_, options.out_dir, config.record),
         watch_(*bus_),
         split_(SplitStages(PipelineStageNames(use_detector_, config.ros2_tf.enabled || options.ros2, options.ros2),
                            options.stages)),
@@ -260,7 +260,7 @@ class PipelineRun {
     for (const auto* p : ready) resupplied_[p->name] = p->pid;
     const auto& camera_info = session_.camera_info_bytes();  // stationarity needs it for every station
     if (!camera_info.empty()) bus_->PublishRaw(channels::kCameraInfo, camera_info.data(), camera_info.size());
-    for (const auto& [id, station] : session_.stations()) bus_->Publish(channels::kStation, station);
+    for (const auto& [id, station] : session_.kept_stations()) bus_->Publish(channels::kStation, station);
   }
 
   // A restarted stage that has not been given the stations again yet: the player holds new messages back

@@ -18,38 +18,22 @@ static bool Decode(const RawMessage& raw, M* message) {
   return message->decode(raw.data, 0, static_cast<int>(raw.size)) >= 0;
 }
 
-SessionRecord::SessionRecord(Bus& bus, const std::string& record_path, bool record_raw) : record_raw_(record_raw) {
-  if (!record_path.empty()) log_ = std::make_unique<LogWriter>(record_path);
+SessionRecord::SessionRecord(Bus& bus, const std::string& dir, const RecordSettings& record) {
+  if (record.what != "none") log_ = std::make_unique<SessionLog>(dir, record);
   subscriptions_.push_back(bus.SubscribeRaw(".*", [this](const RawMessage& raw) {
     const std::string& ch = raw.channel;
-    const bool raw_stream = ch == channels::kCameraImage || ch == channels::kLidarScan;
-    if (log_ && (record_raw_ || !raw_stream)) log_->Write(ch, raw.receive_utime, raw.data, raw.size);
+    if (log_) log_->Write(ch, raw.receive_utime, raw.data, raw.size, camera_info_bytes_);
     if (ch == channels::kStation) {
-      station_t s{};
-      if (Decode(raw, &s)) stations_[s.id] = std::move(s);
-      last_news_utime_ = raw.receive_utime;
+      OnStation(raw);
     } else if (ch == channels::kExtrinsic) {
-      extrinsic_t e{};
-      if (Decode(raw, &e) && (extrinsics_.empty() || e.version > extrinsics_.back().version)) {
-        extrinsics_.push_back(e);
-        extrinsic_receive_utimes_.push_back(raw.receive_utime);
-      }
-      last_news_utime_ = raw.receive_utime;
+      OnExtrinsic(raw);
     } else if (ch == channels::kCameraInfo) {
       camera_info_bytes_.assign(raw.data, raw.data + raw.size);
     } else if (ch == channels::kGroundTruth) {
       ground_truth_t g{};
       if (Decode(raw, &g)) ground_truth_ = g;
     } else if (ch == channels::kLidarMotion || ch == channels::kCameraMotion) {
-      motion_t m{};
-      if (!Decode(raw, &m)) return;
-      if (!m.valid) {
-        ++failed_motions_;
-        const std::string reason = ch + ": " + m.failure_reason.substr(0, 200);
-        if (failure_reasons_.count(reason) || failure_reasons_.size() < kMaxFailureReasons) ++failure_reasons_[reason];
-      } else if (ch == channels::kLidarMotion) ++lidar_motions_;
-      else ++camera_motions_;
-      last_news_utime_ = raw.receive_utime;
+      OnMotion(raw);
     } else if (ch == channels::kStatus) {
       status_t s{};
       if (!Decode(raw, &s) || s.name == kPlayerName) return;
@@ -58,6 +42,41 @@ SessionRecord::SessionRecord(Bus& bus, const std::string& record_path, bool reco
       for (int i = 0; i < s.num_counters; ++i) counters[s.counter_names[i]] = s.counter_values[i];
     }
   }));
+}
+
+void SessionRecord::OnStation(const RawMessage& raw) {
+  last_news_utime_ = raw.receive_utime;
+  station_t s{};
+  if (!Decode(raw, &s)) return;
+  stations_[s.id] = {s.utime, s.still_from_utime, s.still_to_utime};
+  retention_.OnStation(s.id);
+  kept_stations_[s.id] = std::move(s);
+  retention_.Evict(&kept_stations_);
+}
+
+void SessionRecord::OnExtrinsic(const RawMessage& raw) {
+  last_news_utime_ = raw.receive_utime;
+  extrinsic_t e{};
+  if (!Decode(raw, &e) || (!extrinsics_.empty() && e.version <= extrinsics_.back().version)) return;
+  retention_.OnExtrinsic(e);
+  retention_.Evict(&kept_stations_);
+  extrinsics_.push_back(std::move(e));
+  extrinsic_receive_utimes_.push_back(raw.receive_utime);
+}
+
+void SessionRecord::OnMotion(const RawMessage& raw) {
+  motion_t m{};
+  if (!Decode(raw, &m)) return;
+  if (!m.valid) {
+    ++failed_motions_;
+    const std::string reason = raw.channel + ": " + m.failure_reason.substr(0, 200);
+    if (failure_reasons_.count(reason) || failure_reasons_.size() < kMaxFailureReasons) ++failure_reasons_[reason];
+  } else if (raw.channel == channels::kLidarMotion) {
+    ++lidar_motions_;
+  } else {
+    ++camera_motions_;
+  }
+  last_news_utime_ = raw.receive_utime;
 }
 
 SessionRecord::~SessionRecord() {

@@ -1,6 +1,8 @@
 // What a calibration session saw on the bus: stations, motions, every EXTRINSIC version, the ground
 // truth when the log has one. Filled by a subscriber on any bus, so `calibrate` (in-process) and `run`
-// (separate processes) write the same outputs. Optionally records the traffic as an LCM log.
+// (separate processes) write the same outputs. Optionally records the traffic as an LCM log (SessionLog).
+// Memory stays bounded over hours: every station is remembered by its times, but its image and cloud
+// only while StationRetention keeps it (the newest ones and those of the pairs the hand-eye stage holds).
 #pragma once
 
 #include <map>
@@ -13,7 +15,8 @@
 #include "fusecal/ground_truth_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "runtime/bus.hpp"
-#include "runtime/lcm_log.hpp"
+#include "node_kit/station_retention.hpp"
+#include "pipeline/session_log.hpp"
 
 namespace fusecal {
 
@@ -22,14 +25,23 @@ namespace fusecal {
 // (`--stages`). Not a stage: SessionRecord leaves it out of stage_states() and stage_counters().
 inline constexpr const char* kPlayerName = "player";
 
+// A station's times, kept for every station of the session.
+struct StationTimes {
+  int64_t utime = 0;
+  int64_t still_from_utime = 0;
+  int64_t still_to_utime = 0;
+};
+
 class SessionRecord {
  public:
-  // `record_path` empty: no log. Raw streams (CAMERA_IMAGE, LIDAR_SCAN) are recorded only when
-  // `record_raw` (the input log already holds them in `calibrate`).
-  SessionRecord(Bus& bus, const std::string& record_path, bool record_raw);
+  // The session log goes to `dir`/session.lcmlog as `record` says.
+  SessionRecord(Bus& bus, const std::string& dir, const RecordSettings& record);
   ~SessionRecord();
 
-  const std::map<int, station_t>& stations() const { return stations_; }
+  // Every station seen, by id.
+  const std::map<int, StationTimes>& stations() const { return stations_; }
+  // The stations whose image and cloud are still held (all of them in a short session).
+  const std::map<int, station_t>& kept_stations() const { return kept_stations_; }
   const std::vector<extrinsic_t>& extrinsics() const { return extrinsics_; }
   // When each of extrinsics() was received (utime, the bus's clock).
   const std::vector<int64_t>& extrinsic_receive_utimes() const { return extrinsic_receive_utimes_; }
@@ -55,9 +67,14 @@ class SessionRecord {
 
  private:
   std::vector<Subscription> subscriptions_;
-  std::unique_ptr<LogWriter> log_;
-  bool record_raw_;
-  std::map<int, station_t> stations_;
+  void OnStation(const RawMessage& raw);
+  void OnExtrinsic(const RawMessage& raw);
+  void OnMotion(const RawMessage& raw);
+
+  std::unique_ptr<SessionLog> log_;
+  std::map<int, StationTimes> stations_;
+  std::map<int, station_t> kept_stations_;
+  StationRetention retention_;
   std::vector<extrinsic_t> extrinsics_;
   std::vector<int64_t> extrinsic_receive_utimes_;
   std::vector<uint8_t> camera_info_bytes_;
