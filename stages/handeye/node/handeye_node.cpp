@@ -97,6 +97,7 @@ void HandEyeNode::LimitPairs() {
     camera_motions_.erase(key);
     lidar_motions_.erase(key);
     dropped_.insert(key);
+    dropped_since_publish_.push_back(key);
   }
 }
 
@@ -104,10 +105,13 @@ void HandEyeNode::ListHeldPairs(extrinsic_t* msg) const {
   std::set<PairKey> listed;
   for (int k = 0; k < msg->num_used; ++k) listed.insert({msg->used_station_i[k], msg->used_station_j[k]});
   for (int k = 0; k < msg->num_rejected; ++k) listed.insert({msg->rejected_station_i[k], msg->rejected_station_j[k]});
-  for (const auto& p : ScalelessPairs()) {
-    if (listed.count({p.station_i, p.station_j})) continue;
-    msg->rejected_station_i.push_back(p.station_i);
-    msg->rejected_station_j.push_back(p.station_j);
+  std::vector<PairKey> unlisted;
+  for (const auto& p : ScalelessPairs()) unlisted.push_back({p.station_i, p.station_j});
+  unlisted.insert(unlisted.end(), dropped_since_publish_.begin(), dropped_since_publish_.end());
+  for (const auto& [i, j] : unlisted) {
+    if (!listed.insert({i, j}).second) continue;
+    msg->rejected_station_i.push_back(i);
+    msg->rejected_station_j.push_back(j);
   }
   msg->num_rejected = static_cast<int32_t>(msg->rejected_station_i.size());
 }
@@ -224,6 +228,7 @@ void HandEyeNode::Publish(Bus& bus, const HandEyeResult& result, int8_t status, 
   // Pairs that this solve did not take (too few motions, not asked for, rejected before) are listed as not
   // used: stations of the held pairs are kept by fusion odometry and the coordinator by this list.
   ListHeldPairs(&msg);
+  dropped_since_publish_.clear();
   msg.status = status;
   msg.converged = status == extrinsic_t::STATUS_CONVERGED;
   msg.iteration = iteration_;

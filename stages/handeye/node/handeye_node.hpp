@@ -6,7 +6,8 @@
 // version is republished after `retry_s` (idempotent: fusion odometry answers repeats from cache).
 // At most `max_motions` pairs are held; beyond, the least informative are dropped for good
 // (SelectInformativePairs), so that a round costs the same after an hour as after ten minutes. Every
-// EXTRINSIC lists all held pairs, as used or rejected (other stages keep their stations by that list).
+// EXTRINSIC lists all held pairs, as used or rejected (other stages keep their stations by that list), and
+// the first EXTRINSIC after a pair was dropped lists it as rejected.
 #pragma once
 
 #include <map>
@@ -69,12 +70,14 @@ class HandEyeNode : public StageNode {
   bool PairWithLidar(const motion_t& camera, MotionPair* pair) const;
   // Drops pairs beyond max_motions, the least informative first.
   void LimitPairs();
-  // Lists every held pair that `msg` neither uses nor rejects as rejected.
+  // Lists every held pair that `msg` neither uses nor rejects as rejected, and those dropped since the
+  // last EXTRINSIC (a new pair may be dropped at once: it is answered, as rejected, all the same).
   void ListHeldPairs(extrinsic_t* msg) const;
 
   HandEyeNodeSettings settings_;
   std::map<PairKey, motion_t> camera_motions_, lidar_motions_;
   std::set<PairKey> dropped_;  // pairs dropped by LimitPairs: their repeats are ignored
+  std::vector<PairKey> dropped_since_publish_;  // listed once as rejected, so that every pair is answered
   std::optional<HandEyeResult> initial_, current_;
   int version_ = 0;
   int awaiting_version_ = -1;  // the version whose FUSED_MOTIONS we wait for, -1: none

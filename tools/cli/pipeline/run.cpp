@@ -283,7 +283,7 @@ class PipelineRun {
         return false;
       if (watch_.failed_for.count(station_id)) return true;  // no round starts for a failed motion
       const extrinsic_t* e = session_.Final();
-      return e && !RoundRunning(*e) && TookMotionTo(*e, station_id);
+      return e && !RoundRunning(*e) && session_.MotionToWasTaken(station_id);
     };
   }
 

@@ -60,6 +60,8 @@ void SessionRecord::OnExtrinsic(const RawMessage& raw) {
   if (!Decode(raw, &e) || (!extrinsics_.empty() && e.version <= extrinsics_.back().version)) return;
   retention_.OnExtrinsic(e);
   retention_.Evict(&kept_stations_);
+  taken_motions_to_.insert(e.used_station_j.begin(), e.used_station_j.end());
+  taken_motions_to_.insert(e.rejected_station_j.begin(), e.rejected_station_j.end());
   extrinsics_.push_back(std::move(e));
   extrinsic_receive_utimes_.push_back(raw.receive_utime);
 }

@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,9 @@ class SessionRecord {
   // Every counter of each stage's latest STATUS (busy_s; bus_dropped: messages its bus knows it lost, DDS).
   const std::map<std::string, std::map<std::string, double>>& stage_counters() const { return stage_counters_; }
 
+  // Whether some EXTRINSIC used or rejected a motion ending at `station_j` (the latest one may no longer
+  // list it: handeye.max_motions drops pairs).
+  bool MotionToWasTaken(int station_j) const { return taken_motions_to_.count(station_j) > 0; }
   // The latest EXTRINSIC, and the latest scaleless ("initial") one.
   const extrinsic_t* Final() const;
   const extrinsic_t* Initial() const;
@@ -75,6 +79,7 @@ class SessionRecord {
   std::map<int, StationTimes> stations_;
   std::map<int, station_t> kept_stations_;
   StationRetention retention_;
+  std::set<int> taken_motions_to_;
   std::vector<extrinsic_t> extrinsics_;
   std::vector<int64_t> extrinsic_receive_utimes_;
   std::vector<uint8_t> camera_info_bytes_;
