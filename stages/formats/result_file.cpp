@@ -6,6 +6,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "foundation/observed_covariance.hpp"
 #include "runtime/output_file.hpp"
 #include "runtime/strict_yaml.hpp"
 
@@ -21,6 +22,24 @@ void EmitVector(YAML::Emitter& out, const std::string& key, const std::vector<do
 
 std::vector<double> ToVector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
+// What the motions observe, when a direction is unobservable: std_dev there carries the huge variance
+// of that direction on every axis it is not orthogonal to.
+void EmitObservedPart(YAML::Emitter& out, const CalibrationResult& r) {
+  const ObservedUncertainty observed =
+      ObservedPart(*r.covariance, r.T_camera_lidar.linear(), *r.unobservable_direction);
+  out << YAML::Key << "std_dev_observed" << YAML::Value << YAML::BeginMap;
+  EmitVector(out, "rotation_deg", ToVector(observed.rotation_std_deg));
+  EmitVector(out, "translation_m", ToVector(observed.translation_std_m));
+  out << YAML::Key << "rotation_max_deg" << YAML::Value << observed.max_rotation_std_deg;
+  out << YAML::Key << "translation_max_m" << YAML::Value << observed.max_translation_std_m;
+  out << YAML::Key << "projected_out" << YAML::Value
+      << (observed.rotation_projected && observed.translation_projected ? "rotation about and translation along unobservable_direction"
+          : observed.rotation_projected                                 ? "rotation about unobservable_direction"
+          : observed.translation_projected                              ? "translation along unobservable_direction"
+                                                                        : "nothing (no variance marks it unobserved)");
+  out << YAML::EndMap;
+}
+
 void EmitBody(YAML::Emitter& out, const CalibrationResult& r) {
   out.SetDoublePrecision(12);
   double m[16];
@@ -30,6 +49,8 @@ void EmitBody(YAML::Emitter& out, const CalibrationResult& r) {
   const Eigen::Quaterniond q(r.T_camera_lidar.linear());
   EmitVector(out, "rotation_quaternion_wxyz", {q.w(), q.x(), q.y(), q.z()});
   EmitVector(out, "rotation_rpy_deg", ToVector(RpyFromRotation(r.T_camera_lidar.linear()) * 180.0 / M_PI));
+  out << YAML::Key << "std_dev_axes" << YAML::Value
+      << "rotation_deg: about the LiDAR axes (R = R_hat Exp(d)); translation_m: along the camera axes";
   out << YAML::Key << "std_dev" << YAML::Value << YAML::BeginMap;
   if (r.covariance) {
     EmitVector(out, "rotation_deg", ToVector(RotationStdDevDeg(*r.covariance)));
@@ -39,6 +60,7 @@ void EmitBody(YAML::Emitter& out, const CalibrationResult& r) {
     out << YAML::Key << "translation_m" << YAML::Value << YAML::Null;
   }
   out << YAML::EndMap;
+  if (r.covariance && r.unobservable_direction) EmitObservedPart(out, r);
   if (r.covariance) {
     EmitVector(out, "covariance", std::vector<double>(r.covariance->data(), r.covariance->data() + 36));
   }

@@ -5,7 +5,11 @@
 //   translation_m: [x, y, z]
 //   rotation_quaternion_wxyz: [w, x, y, z]
 //   rotation_rpy_deg: [roll, pitch, yaw]          (R = Rz(yaw) Ry(pitch) Rx(roll))
+//   std_dev_axes: which axes the std_dev are about (rotation: LiDAR axes, R = R_hat Exp(d); translation:
+//                 camera axes)
 //   std_dev: {rotation_deg: [3], translation_m: [3]}
+//   std_dev_observed: {rotation_deg, translation_m, rotation_max_deg, translation_max_m, projected_out}
+//                 when a direction is unobservable: the covariance with it projected out (ObservedPart)
 //   status, observability, unobservable_direction (camera frame, when any), motions_used, motions_rejected,
 //   residual_rms
 //   initial: {...same keys...}                   (optional: the scaleless initial estimate)

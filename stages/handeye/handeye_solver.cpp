@@ -4,6 +4,7 @@
 #include <exception>
 #include <sstream>
 
+#include "foundation/observed_covariance.hpp"
 #include "handeye/observability.hpp"
 #include "handeye/pair_model.hpp"
 #include "handeye/refinement.hpp"
@@ -212,6 +213,11 @@ void Finish(const Working& w, const std::vector<MotionPair>& input, const HandEy
     << " (rotation std <= " << obs.rotation_std_deg << " deg, translation std <= " << obs.translation_std_m
     << " m at nominal noise); residual rms " << r->residual_rms_rot_deg << " deg, " << r->residual_rms_trans_m
     << " m; solver: " << est.message;
+  if (obs.verdict != Observability::kOk) {
+    const ObservedUncertainty observed = ObservedPart(r->covariance, est.R, obs.direction);
+    m << "; observed part (unobservable direction projected out): rotation std <= " << observed.max_rotation_std_deg
+      << " deg, translation std <= " << observed.max_translation_std_m << " m";
+  }
   r->message = m.str();
   if (r->status == HandEyeStatus::kFailed)
     MarkFailed(HandEyeFailure::kSolverFailed, r);

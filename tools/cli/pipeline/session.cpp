@@ -10,6 +10,7 @@
 #include "formats/conversions.hpp"
 #include "formats/extrinsic_status.hpp"
 #include "formats/result_file.hpp"
+#include "foundation/observed_covariance.hpp"
 
 namespace fusecal {
 
@@ -122,12 +123,17 @@ std::string ProgressText(const SessionRecord& session) {
   if (const extrinsic_t* e = session.Final()) {
     const Isometry3 T = FromRowMajor(e->T_camera_lidar);
     const Matrix6 cov = Matrix6FromArray(e->covariance);
-    const Eigen::Vector3d t = T.translation(), st = TranslationStdDevM(cov), sr = RotationStdDevDeg(cov);
+    const Eigen::Vector3d d(e->unobservable_direction[0], e->unobservable_direction[1], e->unobservable_direction[2]);
+    // With an unobservable direction: the std of what the motions observe (the direction projected out).
+    const ObservedUncertainty observed = ObservedPart(cov, T.linear(), d);
+    const Eigen::Vector3d t = T.translation(), st = observed.translation_std_m, sr = observed.rotation_std_deg;
     const Eigen::Vector3d rpy = RpyFromRotation(T.linear()) * 180.0 / M_PI;
     out << " | v" << e->version << " it" << e->iteration << " " << ExtrinsicStatusName(e->status) << " (" << ObservabilityName(e->observability) << ")"
         << " t=[" << t.x() << " " << t.y() << " " << t.z() << "]+-" << std::setprecision(4) << st.maxCoeff()
         << " m rpy=[" << std::setprecision(2) << rpy.x() << " " << rpy.y() << " " << rpy.z() << "]+-"
         << std::setprecision(4) << sr.maxCoeff() << " deg";
+    if (d.norm() > 0.5)
+      out << " (observed part; unobservable: [" << std::setprecision(2) << d.x() << " " << d.y() << " " << d.z() << "])";
   }
   return out.str();
 }
