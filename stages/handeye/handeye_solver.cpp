@@ -2,10 +2,12 @@
 
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <sstream>
 
 #include "foundation/observed_covariance.hpp"
 #include "handeye/observability.hpp"
+#include "handeye/outlier_rejection.hpp"
 #include "handeye/pair_model.hpp"
 #include "handeye/refinement.hpp"
 #include "handeye/rotation_solver.hpp"
@@ -19,16 +21,15 @@ namespace {
 using namespace handeye;
 constexpr double kRadToDeg = 180.0 / M_PI;
 
-// The pairs still in use: their input indices and copies.
-struct Working {
-  std::vector<int> index;
-  std::vector<MotionPair> pairs;
-  int size() const { return static_cast<int>(pairs.size()); }
-  void Remove(int k) {
-    index.erase(index.begin() + k);
-    pairs.erase(pairs.begin() + k);
-  }
-};
+using Working = PairSet;  // the pairs in use, and those set aside as outliers
+
+// The pairs set aside as outliers go to the result's rejected pairs, with why.
+void AppendOutliers(const Working& w, const std::vector<MotionPair>& input, HandEyeResult* r) {
+  for (const auto& [i, why] : w.outliers) r->rejected_pairs.push_back(MakeRejected(input, i, why));
+}
+
+// Steps of the outlier rejection at most: each pair can go and come back once, and more.
+int MaxRejectionSteps(const std::vector<MotionPair>& input) { return 2 * static_cast<int>(input.size()) + 2; }
 
 void SetCovariance(const Matrix6& C, HandEyeResult* r) {
   r->covariance = 0.5 * (C + C.transpose());
@@ -157,6 +158,21 @@ NoiseModel EstimateNoise(const std::vector<MotionPair>& pairs, const Eigen::Matr
   return out;
 }
 
+// Sum of the whitened squared residuals per degree of freedom (6 per pair, 6 parameters): about 1 when the
+// noise model explains the residuals.
+double ReducedChiSquare(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                        const NoiseModel& noise) {
+  const int dof = 6 * static_cast<int>(pairs.size()) - 6;
+  if (dof <= 0) return 1.0;
+  double sum = 0.0;
+  for (const auto& p : pairs) {
+    Vector6 r;
+    r << RotationResidual(p, R), TranslationResidual(p, R, t);
+    sum += r.dot(ResidualCovariance(p, R, t, noise).ldlt().solve(r));
+  }
+  return std::isfinite(sum) ? sum / dof : 1.0;
+}
+
 // Inflates the covariance along unobservable directions ([d_rot ; t] coordinates): the exact null vectors,
 // and the reported direction (rotation about it, d_rot = R^T direction, and t along it).
 Matrix6 Inflate(Matrix6 C, const ObservabilityReport& obs, const Eigen::Matrix3d& R) {
@@ -189,6 +205,8 @@ void Finish(const Working& w, const std::vector<MotionPair>& input, const HandEy
     sum_rot += RotationResidual(w.pairs[k], est.R).squaredNorm();
     sum_trans += TranslationResidual(w.pairs[k], est.R, est.t, scales.empty() ? 1.0 : scales[k]).squaredNorm();
   }
+  r->verdict_rotation_std_deg = obs.rotation_std_deg;
+  r->verdict_translation_std_m = obs.translation_std_m;
   r->residual_rms_rot_deg = std::sqrt(sum_rot / w.size()) * kRadToDeg;
   r->residual_rms_trans_m = std::sqrt(sum_trans / w.size());
 
@@ -211,7 +229,7 @@ void Finish(const Working& w, const std::vector<MotionPair>& input, const HandEy
   r->converged = r->status == HandEyeStatus::kConverged;
   m << "used " << w.size() << " of " << input.size() << " pairs; observability " << Name(obs.verdict)
     << " (rotation std <= " << obs.rotation_std_deg << " deg, translation std <= " << obs.translation_std_m
-    << " m at nominal noise); residual rms " << r->residual_rms_rot_deg << " deg, " << r->residual_rms_trans_m
+    << " m at the noise the residuals show, at least nominal); residual rms " << r->residual_rms_rot_deg << " deg, " << r->residual_rms_trans_m
     << " m; solver: " << est.message;
   if (obs.verdict != Observability::kOk) {
     const ObservedUncertainty observed = ObservedPart(r->covariance, est.R, obs.direction);
@@ -234,23 +252,18 @@ HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEy
   const Eigen::Vector3d t_prior = initial ? Eigen::Vector3d(initial->translation()) : Eigen::Vector3d::Zero();
   const bool robust = s.robust_loss != RobustLoss::kNone;
   RefineOutput est;
-  for (;;) {
+  for (int step = 0;; ++step) {
     const Eigen::Matrix3d R0 = InitialRotation(w.pairs, s, nominal, initial, true);
     const Eigen::Vector3d t0 = SolveTranslation(w.pairs, R0, false, initial ? &t_prior : nullptr).t;
     est = RefinePose(w.pairs, R0, t0, nominal, robust, s);
     r.iterations += est.iterations;
-    if (!s.reject_outliers || w.size() < 3) break;
-    std::vector<double> rot_deg, trans_m;
-    for (const auto& p : w.pairs) {
-      rot_deg.push_back(RotationResidual(p, est.R).norm() * kRadToDeg);
-      trans_m.push_back(TranslationResidual(p, est.R, est.t).norm());
-    }
-    std::string why;
-    const int k = FindResidualOutlier(rot_deg, trans_m, s, &why);
-    if (k < 0) break;
-    r.rejected_pairs.push_back(MakeRejected(input, w.index[k], why));
-    w.Remove(k);
+    if (!s.reject_outliers || step >= MaxRejectionSteps(input)) break;
+    const auto residuals = [&est](const MotionPair& p) {
+      return std::make_pair(RotationResidual(p, est.R).norm() * kRadToDeg, TranslationResidual(p, est.R, est.t).norm());
+    };
+    if (!RejectOrRestoreOne(&w, input, residuals, nominal, s)) break;
   }
+  AppendOutliers(w, input, &r);
 
   // Final plain least squares with the noise re-estimated from the residuals (twice: the whitening depends
   // on the estimate and the noise).
@@ -264,7 +277,10 @@ HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEy
   r.noise_rot_deg = noise.rot_sigma_rad * kRadToDeg;
   r.noise_trans_m = noise.trans_sigma_m;
 
-  const ObservabilityReport obs = AnalyzeScaled(w.pairs, est.R, est.t, nominal, s);
+  // The verdict from the noise the data show (never below nominal); given covariances count as they are
+  // unless the residuals say they were too small.
+  const double chi2_factor = given_cov ? std::max(1.0, ReducedChiSquare(w.pairs, est.R, est.t, noise)) : 1.0;
+  const ObservabilityReport obs = AnalyzeScaled(w.pairs, est.R, est.t, VerdictNoise(nominal, noise), s, chi2_factor);
   // Along unobservable directions the estimate is noise: keep the initial guess there (zero without one).
   if (obs.verdict == Observability::kRotationDegenerate) {
     if (initial) est.R = AlignAxis(initial->linear(), est.R.transpose() * obs.direction, obs.direction);
@@ -277,34 +293,25 @@ HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEy
   if (!PoseCovariance(w.pairs, est.R, est.t, noise, &C, &cost)) C = kUnobservableVariance * Matrix6::Identity();
   const int dof = 6 * w.size() - 6;
   if (!given_cov && dof > 0) C *= 2.0 * cost / dof;  // sigma^2 = 2 cost / dof
+  if (given_cov) C *= chi2_factor;  // the given covariances were too small when the residuals exceed them
   SetCovariance(Inflate(C, obs, est.R), &r);
   Finish(w, input, s, obs, est, {}, &r);
   return r;
 }
 
-// Index of the pair to reject in the scaleless solve, or -1: a residual outlier (FindResidualOutlier), else
-// the pair with the most negative scale (unless the rotation about the axes is weak); *why says why.
-int FindScalelessOutlier(const Working& w, const RefineOutput& est, const LinearTranslation& lt,
-                         const NoiseModel& nominal, const HandEyeSettings& s, std::string* why) {
-  // With (nearly) parallel axes the rotation about the axis is arbitrary, and so are the translation
-  // residuals: only the rotation residuals can point at an outlier then.
-  Eigen::Vector3d axis_b;
-  const bool rotation_weak = WeakestRotationFromAxes(w.pairs, est.R, nominal, &axis_b) * kRadToDeg >
-                             s.max_rotation_std_deg;
-  std::vector<double> rot_deg, trans_m;
-  for (int k = 0; k < w.size(); ++k) {
-    rot_deg.push_back(RotationResidual(w.pairs[k], est.R).norm() * kRadToDeg);
-    trans_m.push_back(rotation_weak ? 0.0 : lt.residuals[k].norm());
-  }
-  int k = FindResidualOutlier(rot_deg, trans_m, s, why);
-  if (k < 0 && !rotation_weak) {
-    // A negative scale means the camera translation points against the LiDAR's (a flipped direction).
-    double most_negative = 0.0;
-    for (int j = 0; j < w.size(); ++j)
-      if (lt.scales[j] < most_negative) most_negative = lt.scales[k = j];
-    if (k >= 0) *why = "negative scale " + std::to_string(lt.scales[k]) + " (camera translation direction flipped)";
-  }
-  return k;
+// Residuals of a pair in the scaleless solve at (R, t): rotation (degrees) and translation with the scale that
+// fits it best, s = t_a^T (R t_b - (R_a - I) t) / |t_a|^2 (metres; infinite for a scale <= 0: the camera
+// translation points against the LiDAR's, a flipped direction). With (nearly) parallel axes the rotation
+// about the axis is arbitrary, and so are the translation residuals: zero then (`rotation_weak`).
+std::pair<double, double> ScalelessResiduals(const MotionPair& p, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                                             bool rotation_weak) {
+  const double rot_deg = RotationResidual(p, R).norm() * kRadToDeg;
+  if (rotation_weak) return {rot_deg, 0.0};
+  const Eigen::Vector3d ta = p.A.translation();
+  const Eigen::Vector3d rhs = R * p.B.translation() - (p.A.linear() - Eigen::Matrix3d::Identity()) * t;
+  const double scale = ta.squaredNorm() > 1e-24 ? ta.dot(rhs) / ta.squaredNorm() : 0.0;
+  if (!(scale > 0.0)) return {rot_deg, std::numeric_limits<double>::infinity()};
+  return {rot_deg, TranslationResidual(p, R, t, scale).norm()};
 }
 
 // The per-pair scales and their standard deviations, from the rotation covariance C_rr, the linear
@@ -341,18 +348,19 @@ HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const Han
   const bool robust = s.robust_loss != RobustLoss::kNone;
   RefineOutput est;
   LinearTranslation lt;
-  for (;;) {
+  for (int step = 0;; ++step) {
     const Eigen::Matrix3d R0 = InitialRotation(w.pairs, s, nominal, initial, false);
     est = RefineRotation(w.pairs, R0, nominal, robust, s);
     r.iterations += est.iterations;
     lt = SolveTranslation(w.pairs, est.R, true, prior);
-    if (!s.reject_outliers || w.size() < 3) break;
-    std::string why;
-    const int k = FindScalelessOutlier(w, est, lt, nominal, s, &why);
-    if (k < 0) break;
-    r.rejected_pairs.push_back(MakeRejected(input, w.index[k], why));
-    w.Remove(k);
+    if (!s.reject_outliers || step >= MaxRejectionSteps(input)) break;
+    Eigen::Vector3d axis_b;
+    const bool rotation_weak =
+        WeakestRotationFromAxes(w.pairs, est.R, nominal, &axis_b) * kRadToDeg > s.max_rotation_std_deg;
+    const auto residuals = [&](const MotionPair& p) { return ScalelessResiduals(p, est.R, lt.t, rotation_weak); };
+    if (!RejectOrRestoreOne(&w, input, residuals, nominal, s)) break;
   }
+  AppendOutliers(w, input, &r);
 
   const bool given_cov = AllHaveCovariances(w.pairs);
   NoiseModel noise = nominal;
@@ -360,7 +368,9 @@ HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const Han
   est = RefineRotation(w.pairs, est.R, noise, false, s);
   r.iterations += est.iterations;
   lt = SolveTranslation(w.pairs, est.R, true, prior);
-  const ObservabilityReport obs = AnalyzeScaleless(w.pairs, est.R, lt, nominal, s);
+  NoiseModel shown = noise;  // the noise the data show: rotation estimated above, translation from lt
+  if (lt.dof > 0) shown.trans_sigma_m = std::sqrt(0.5 * lt.residual_sum_squares / lt.dof);
+  const ObservabilityReport obs = AnalyzeScaleless(w.pairs, est.R, lt, VerdictNoise(nominal, shown), s);
   if (obs.verdict != Observability::kOk) {
     // Along unobservable directions the estimate is noise: keep the initial guess there (zero without one).
     if (initial && obs.verdict == Observability::kRotationDegenerate)

@@ -53,8 +53,11 @@ enum class RobustLoss { kNone, kHuber, kCauchy };
 struct HandEyeSettings {
   // --- Screening of single pairs (before any solve) ---
   // The rotation angle is invariant under conjugation (R_a = R R_b R^T), so |angle(A) - angle(B)| must be
-  // small; pairs beyond this are rejected.
+  // small: pairs beyond max_angle_difference_deg + angle_difference_fraction x the larger of the two angles
+  // are rejected (the fixed part covers the noise, 10 x nominal; the part that grows with the turn covers
+  // what grows with it: timing and scale errors of the motion estimates).
   double max_angle_difference_deg = 1.0;
+  double angle_difference_fraction = 0.1;
   // Pairs whose camera and LiDAR angles are both below this carry no usable rotation axis (and (R_a - I)
   // vanishes, so they do not constrain t either): rejected as "no rotation".
   double min_rotation_deg = 1.0;
@@ -65,9 +68,11 @@ struct HandEyeSettings {
   int min_pairs = 3;
 
   // --- Robust estimation ---
-  // After each initial solve, the pair with the largest residual is rejected when its rotation residual
-  // exceeds max(outlier_factor * median, outlier_min_rotation_deg) or its translation residual exceeds
-  // max(outlier_factor * median, outlier_min_translation_m); repeated until no pair exceeds.
+  // After each initial solve, every screened pair (used, or rejected as an outlier before) is measured
+  // against limits decided from all of them: outlier_factor x the median residual, but never below
+  // outlier_factor x the median residual the nominal noise gives (nor outlier_min_*). The used pair that
+  // exceeds its limit by the largest ratio is rejected; else a rejected pair below 0.8 x its limit comes
+  // back; repeated until nothing changes. A rejection does not lower the limits (no cascade).
   bool reject_outliers = true;
   double outlier_factor = 4.0;
   double outlier_min_rotation_deg = 0.01;
@@ -86,11 +91,17 @@ struct HandEyeSettings {
   bool estimate_noise_from_residuals = true;
 
   // --- Observability verdict ---
-  // The verdict uses the information matrix of the used pairs under the nominal noise model (or the given
-  // covariances), i.e. the singular values of the whitened Jacobian: a direction whose standard deviation
-  // would exceed these thresholds (or whose singular value is zero) is reported as unobservable.
+  // The verdict uses the information matrix of the used pairs under the noise the data show: per sensor
+  // motion and axis the larger of the nominal noise and the noise estimated from the residuals (pairs
+  // with given covariances: those, scaled by the reduced chi-square when it exceeds 1). A direction whose
+  // standard deviation would exceed these thresholds (or whose singular value is zero) is unobservable.
   double max_rotation_std_deg = 1.0;
   double max_translation_std_m = 0.1;
+  // Hysteresis: a verdict of the same session (previous_verdict, set by the hand-eye stage) changes only
+  // when a standard deviation crosses its threshold by this fraction: a degenerate part becomes observed
+  // below (1 - h) x threshold, an observed part becomes degenerate above (1 + h) x threshold.
+  double verdict_hysteresis = 0.2;
+  std::optional<Observability> previous_verdict;
 
   // --- Nonlinear solver (Ceres) ---
   int max_iterations = 100;
@@ -146,6 +157,10 @@ struct HandEyeResult {
   // RMS over used pairs of |Log(R_b^T R^T R_a R)| (degrees) and of |R_a t + s_i t_a - R t_b - t| (metres).
   double residual_rms_rot_deg = 0.0;
   double residual_rms_trans_m = 0.0;
+  // The largest standard deviations the verdict compared with max_rotation_std_deg / max_translation_std_m
+  // (at the noise the data show, at least nominal; infinite along a null direction).
+  double verdict_rotation_std_deg = 0.0;
+  double verdict_translation_std_m = 0.0;
   // Noise per sensor motion and axis that the final solve used (estimated from residuals, or nominal).
   double noise_rot_deg = 0.0;
   double noise_trans_m = 0.0;

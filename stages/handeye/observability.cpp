@@ -1,7 +1,9 @@
 #include "handeye/observability.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
+#include <initializer_list>
 
 namespace fusecal::handeye {
 namespace {
@@ -58,14 +60,27 @@ Eigen::Matrix3d RotationInformation(const std::vector<MotionPair>& pairs, const 
   return info;
 }
 
+// The threshold a standard deviation is compared with: moved by the hysteresis away from the previous
+// verdict, so that a session near a threshold keeps its verdict (`degenerate_kinds`: the verdicts under
+// which this part counts as unobserved).
+double Threshold(double threshold, const HandEyeSettings& s, std::initializer_list<Observability> degenerate_kinds) {
+  if (!s.previous_verdict || *s.previous_verdict == Observability::kTooFewMotions) return threshold;
+  for (const Observability kind : degenerate_kinds)
+    if (*s.previous_verdict == kind) return threshold * (1.0 - s.verdict_hysteresis);
+  return threshold * (1.0 + s.verdict_hysteresis);
+}
+
 void Verdict(const BlockStd& rot, const BlockStd& trans, const Eigen::Matrix3d& R, const HandEyeSettings& settings,
-             ObservabilityReport* report) {
-  report->rotation_std_deg = rot.max_std * 180.0 / M_PI;
-  report->translation_std_m = trans.max_std;
-  if (report->rotation_std_deg > settings.max_rotation_std_deg) {
+             double variance_factor, ObservabilityReport* report) {
+  const double f = std::sqrt(std::max(variance_factor, 1.0));
+  report->rotation_std_deg = rot.max_std * f * 180.0 / M_PI;
+  report->translation_std_m = trans.max_std * f;
+  if (report->rotation_std_deg > Threshold(settings.max_rotation_std_deg, settings, {Observability::kRotationDegenerate})) {
     report->verdict = Observability::kRotationDegenerate;
     report->direction = (R * rot.direction).normalized();  // LiDAR-frame axis -> camera frame
-  } else if (report->translation_std_m > settings.max_translation_std_m) {
+  } else if (report->translation_std_m >
+             Threshold(settings.max_translation_std_m, settings,
+                       {Observability::kRotationDegenerate, Observability::kTranslationPartlyUnobservable})) {
     report->verdict = Observability::kTranslationPartlyUnobservable;
     report->direction = trans.direction.normalized();
   }
@@ -75,7 +90,7 @@ void Verdict(const BlockStd& rot, const BlockStd& trans, const Eigen::Matrix3d& 
 
 ObservabilityReport AnalyzeScaled(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
                                   const Eigen::Vector3d& t, const NoiseModel& noise,
-                                  const HandEyeSettings& settings) {
+                                  const HandEyeSettings& settings, double variance_factor) {
   Eigen::MatrixXd info = Eigen::MatrixXd::Zero(6, 6);
   for (const auto& p : pairs) {
     const Matrix6 J = JacobianWrtExtrinsic(p, R);
@@ -91,13 +106,13 @@ ObservabilityReport AnalyzeScaled(const std::vector<MotionPair>& pairs, const Ei
     trans_nulls.push_back(v.tail<3>());
   }
   Verdict(AnalyzeBlock(C.topLeftCorner<3, 3>(), rot_nulls), AnalyzeBlock(C.bottomRightCorner<3, 3>(), trans_nulls),
-          R, settings, &report);
+          R, settings, variance_factor, &report);
   return report;
 }
 
 ObservabilityReport AnalyzeScaleless(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
                                      const LinearTranslation& lt, const NoiseModel& noise,
-                                     const HandEyeSettings& settings) {
+                                     const HandEyeSettings& settings, double variance_factor) {
   std::vector<Eigen::VectorXd> nulls;
   const Eigen::Matrix3d C_rr = PseudoInverse(RotationInformation(pairs, R, noise), &nulls);
   const double var_t = 2.0 * noise.trans_sigma_m * noise.trans_sigma_m;
@@ -117,8 +132,12 @@ ObservabilityReport AnalyzeScaleless(const std::vector<MotionPair>& pairs, const
     report.null_directions.push_back(n);
     trans_nulls.push_back(v);
   }
-  Verdict(AnalyzeBlock(C_rr, rot_nulls), AnalyzeBlock(C_tt, trans_nulls), R, settings, &report);
+  Verdict(AnalyzeBlock(C_rr, rot_nulls), AnalyzeBlock(C_tt, trans_nulls), R, settings, variance_factor, &report);
   return report;
+}
+
+NoiseModel VerdictNoise(const NoiseModel& nominal, const NoiseModel& estimated) {
+  return {std::max(nominal.rot_sigma_rad, estimated.rot_sigma_rad), std::max(nominal.trans_sigma_m, estimated.trans_sigma_m)};
 }
 
 double WeakestRotationFromAxes(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,

@@ -1,8 +1,7 @@
 // Observability of the extrinsic from a set of motions: singular values of the whitened Jacobian.
 //
-// The information matrix J^T J of the used pairs (whitened with the nominal noise or the given covariances,
-// not with the residuals, so that the verdict depends on the motion geometry and noise model only) is
-// pseudo-inverted. An exactly null direction, or a direction whose standard deviation exceeds
+// The information matrix J^T J of the used pairs (whitened with the verdict noise: the larger of nominal
+// and estimated noise, or the given covariances times `variance_factor`) is pseudo-inverted. An exactly null direction, or a direction whose standard deviation exceeds
 // settings.max_rotation_std_deg / max_translation_std_m, is unobservable. Typical cases:
 //   * all rotation axes parallel (scaleless), or all motions screws about one line (scaled): the rotation
 //     about the axis, J_rot = I - R_b^T has the axis as null vector -> rotation_degenerate;
@@ -31,13 +30,17 @@ struct ObservabilityReport {
 };
 
 ObservabilityReport AnalyzeScaled(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
-                                  const Eigen::Vector3d& t, const NoiseModel& noise, const HandEyeSettings& settings);
+                                  const Eigen::Vector3d& t, const NoiseModel& noise, const HandEyeSettings& settings,
+                                  double variance_factor = 1.0);
 
 // Rotation from the rotation residuals alone; t with the scales marginalised, from `lt` (translation
 // residual variance 2 sigma_trans^2 per axis), plus the rotation uncertainty propagated through lt.dt_drot.
 ObservabilityReport AnalyzeScaleless(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
                                      const LinearTranslation& lt, const NoiseModel& noise,
-                                     const HandEyeSettings& settings);
+                                     const HandEyeSettings& settings, double variance_factor = 1.0);
+
+// The noise a verdict uses: per component the larger of the nominal and the estimated noise.
+NoiseModel VerdictNoise(const NoiseModel& nominal, const NoiseModel& estimated);
 
 // Largest standard deviation (rad) of the rotation as determined by the rotations alone, and its axis in the
 // LiDAR frame (the rotation perturbation coordinates). Infinite for parallel axes.

@@ -65,9 +65,11 @@ ScreeningOutcome ScreenPairs(const std::vector<MotionPair>& pairs, const HandEye
         s << "no rotation (camera " << angle_a << " deg, LiDAR " << angle_b << " deg < " << settings.min_rotation_deg
           << " deg): axis undefined";
         why = s.str();
-      } else if (std::abs(angle_a - angle_b) > settings.max_angle_difference_deg) {
-        s << "rotation angles disagree: camera " << angle_a << " deg, LiDAR " << angle_b << " deg (limit "
-          << settings.max_angle_difference_deg << " deg)";
+      } else if (const double limit = settings.max_angle_difference_deg +
+                                       settings.angle_difference_fraction * std::max(angle_a, angle_b);
+                 std::abs(angle_a - angle_b) > limit) {
+        s << "rotation angles disagree: camera " << angle_a << " deg, LiDAR " << angle_b << " deg (limit " << limit
+          << " deg)";
         why = s.str();
       }
     }
@@ -79,29 +81,17 @@ ScreeningOutcome ScreenPairs(const std::vector<MotionPair>& pairs, const HandEye
   return out;
 }
 
-int FindResidualOutlier(const std::vector<double>& rot_residual_deg, const std::vector<double>& trans_residual_m,
-                        const HandEyeSettings& settings, std::string* reason) {
-  const size_t n = rot_residual_deg.size();
-  if (n < 3 || trans_residual_m.size() != n) return -1;
-  const double thr_rot = std::max(settings.outlier_factor * Median(rot_residual_deg), settings.outlier_min_rotation_deg);
-  const double thr_trans =
-      std::max(settings.outlier_factor * Median(trans_residual_m), settings.outlier_min_translation_m);
-  int worst = -1;
-  double worst_ratio = 1.0;
-  for (size_t i = 0; i < n; ++i) {
-    const double ratio = std::max(rot_residual_deg[i] / thr_rot, trans_residual_m[i] / thr_trans);
-    if (ratio > worst_ratio) {
-      worst_ratio = ratio;
-      worst = static_cast<int>(i);
-    }
-  }
-  if (worst >= 0 && reason) {
-    std::ostringstream s;
-    s << "residual outlier: rotation " << rot_residual_deg[worst] << " deg (limit " << thr_rot << "), translation "
-      << trans_residual_m[worst] << " m (limit " << thr_trans << ")";
-    *reason = s.str();
-  }
-  return worst;
+ResidualLimits OutlierLimits(const std::vector<double>& rot_residual_deg, const std::vector<double>& trans_residual_m,
+                             double nominal_median_rot_deg, double nominal_median_trans_m,
+                             const HandEyeSettings& s) {
+  ResidualLimits limits;
+  const double f = s.outlier_factor;
+  limits.rotation_deg = std::max({f * Median(rot_residual_deg), f * nominal_median_rot_deg, s.outlier_min_rotation_deg});
+  limits.translation_m =
+      std::max({f * Median(trans_residual_m), f * nominal_median_trans_m, s.outlier_min_translation_m});
+  return limits;
 }
+
+double NominalMedianResidual(double sigma) { return 1.538 * std::sqrt(2.0) * sigma; }
 
 }  // namespace fusecal::handeye

@@ -138,7 +138,10 @@ std::vector<MotionPair> HandEyeNode::ScalelessPairs() const {
 void HandEyeNode::StartRound(Bus& bus) {
   const auto start = std::chrono::steady_clock::now();
   // No prior: the scaleless estimate stays what the scaleless motions alone say (the baseline).
-  initial_ = SolveScaleless(ScalelessPairs(), settings_.solver);
+  // The verdict keeps its hysteresis from the previous solve of the same kind.
+  HandEyeSettings solver = settings_.solver;
+  if (initial_ && initial_->usable()) solver.previous_verdict = initial_->observability;
+  initial_ = SolveScaleless(ScalelessPairs(), solver);
   work_.Add(Seconds(start));
   iteration_ = 0;
   converged_ = false;
@@ -184,7 +187,9 @@ void HandEyeNode::OnFusedMotions(Bus& bus, const motion_set_t& set) {
     MotionPair p;
     if (m.scaled && PairWithLidar(m, &p)) pairs.push_back(p);
   }
-  HandEyeResult result = SolveScaled(pairs, settings_.solver, &current_->T_camera_lidar);
+  HandEyeSettings solver = settings_.solver;
+  if (current_->scaled && current_->usable()) solver.previous_verdict = current_->observability;
+  HandEyeResult result = SolveScaled(pairs, solver, &current_->T_camera_lidar);
   work_.Add(Seconds(start));
   if (!result.usable()) {
     // Keep what we had; say why and wait for more motions.

@@ -383,7 +383,7 @@ TEST(HandEyeDegenerate, OneMotionFails) {
 TEST(HandEyeOutliers, AngleMismatchIsRejectedAndNamed) {
   auto data = GenerateSyntheticMotions(Motions(8, 21, 0.05, 0.003));
   MotionPair& bad = data.pairs[3];
-  bad.A.linear() = bad.A.linear() * ExpSO3(Eigen::Vector3d(0.0, 0.0, 5.0 * kDeg));
+  bad.A.linear() = bad.A.linear() * ExpSO3(Eigen::Vector3d(0.0, 0.0, 10.0 * kDeg));  // the limit: 1 deg + 10 % of the angle
   const HandEyeResult r = SolveScaled(data.pairs);
   ASSERT_EQ(r.rejected_pairs.size(), 1u);
   EXPECT_EQ(r.rejected_pairs[0].station_i, bad.station_i);

@@ -85,7 +85,9 @@ TEST(PipelineConfig, ValuesWithinTheSettingsRangesAreAccepted) {
   EXPECT_EQ(ErrorOf("stationarity", "max_pair_dt_s: 0", kStationarity), "");
   EXPECT_EQ(ErrorOf("lidar_icp", "max_correspondence_m: 0", kLidarIcp), "");  // automatic
   EXPECT_EQ(ErrorOf("camera_frontend", "ratio: 0.05", kCameraFrontend), "");
-  EXPECT_EQ(ErrorOf("handeye", "min_pairs: 2000", kHandEye), "");
+  EXPECT_EQ(ErrorOf("handeye", "min_pairs: 2000, max_motions: 2000", kHandEye), "");
+  // More pairs for a verdict than are ever held is a contradiction, named.
+  EXPECT_NE(ErrorOf("handeye", "min_pairs: 2000", kHandEye).find("max_motions"), std::string::npos);
   EXPECT_EQ(ErrorOf("ros2_tf", "domain: 232", kRos2Tf), "");
 }
 
