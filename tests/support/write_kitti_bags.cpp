@@ -17,6 +17,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "formats/ros_sensor_encode.hpp"
 #include "importers/kitti.hpp"
 #include "support/db3_test_writer.hpp"
 #include "support/recorded_bags.hpp"
@@ -54,22 +55,7 @@ std::vector<std::pair<fs::path, int64_t>> SensorFiles(const fs::path& sensor_dir
   return out;
 }
 
-RosHeader Header(int64_t utime, const std::string& frame_id) {
-  return RosHeader{RosTime{utime / 1000000, static_cast<uint32_t>(utime % 1000000) * 1000}, frame_id};
-}
-
-RosCameraInfo CameraInfo(const CameraParams& camera, int64_t utime) {
-  RosCameraInfo info;
-  info.header = Header(utime, "camera_color_left");
-  info.width = static_cast<uint32_t>(camera.width);
-  info.height = static_cast<uint32_t>(camera.height);
-  info.distortion_model = "plumb_bob";
-  info.D = {0, 0, 0, 0, 0};  // the images are rectified
-  info.K = {camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1};
-  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  info.P = {camera.fx, 0, camera.cx, 0, 0, camera.fy, camera.cy, 0, 0, 0, 1, 0};
-  return info;
-}
+RosHeader Header(int64_t utime, const std::string& frame_id) { return RosHeader{UtimeToRosStamp(utime), frame_id}; }
 
 std::vector<RecordedMessage> Recording(const fs::path& kitti, size_t frames) {
   const KittiCalibration calib = ReadKittiCalibration(kitti.string());
@@ -93,7 +79,7 @@ std::vector<RecordedMessage> Recording(const fs::path& kitti, size_t frames) {
     compressed.header = raw.header;
     compressed.format = "rgb8; png compressed bgr8";
     compressed.data = std::move(png);
-    recording.push_back({kCameraInfoTopic, utime + 2000, CameraInfo(calib.camera, utime), {}});
+    recording.push_back({kCameraInfoTopic, utime + 2000, ToRosCameraInfo(calib.camera, Header(utime, "camera_color_left")), {}});
     recording.push_back({kImageTopic, utime + 15000, std::move(raw), {}});
     recording.push_back({kCompressedTopic, utime + 20000, std::move(compressed), {}});
   }

@@ -13,6 +13,7 @@
 
 #include "formats/ros_cdr.hpp"
 #include "formats/ros_sensor_conversions.hpp"
+#include "formats/ros_sensor_encode.hpp"
 #include "importers/ros_messages.hpp"
 #include "runtime/lcm_log.hpp"
 #include "support/db3_test_writer.hpp"
@@ -43,11 +44,10 @@ std::string TempPath(const std::string& name) {
   return ::testing::TempDir() + "fusecal_rosbag2_" + std::to_string(getpid()) + "_" + name;
 }
 
-RosTime Time(int64_t utime) { return RosTime{utime / 1000000, static_cast<uint32_t>(utime % 1000000) * 1000}; }
 
 RosImage RawImage(const cv::Mat& pixels, const std::string& encoding, int64_t utime, int padding = 0) {
   RosImage msg;
-  msg.header = RosHeader{Time(utime), "camera"};
+  msg.header = RosHeader{UtimeToRosStamp(utime), "camera"};
   msg.width = static_cast<uint32_t>(pixels.cols);
   msg.height = static_cast<uint32_t>(pixels.rows);
   msg.encoding = encoding;
@@ -61,7 +61,7 @@ RosImage RawImage(const cv::Mat& pixels, const std::string& encoding, int64_t ut
 // x, y, z, intensity as float32 and ring as uint16 (the Velodyne driver's layout), 4 bytes of padding.
 RosPointCloud2 VelodyneCloud(int64_t utime, int height = 2) {
   RosPointCloud2 msg;
-  msg.header = RosHeader{Time(utime), "velodyne"};
+  msg.header = RosHeader{UtimeToRosStamp(utime), "velodyne"};
   msg.height = static_cast<uint32_t>(height);
   msg.width = 3;
   msg.fields = {{"x", 0, RosPointField::FLOAT32, 1}, {"y", 4, RosPointField::FLOAT32, 1},
@@ -107,7 +107,7 @@ std::vector<RecordedMessage> FourTypes() {
     recording.push_back(Recorded("/velodyne_points", kT0 + k * 100000 + 300000, VelodyneCloud(kT0 + k * 100000 + 20000)));
   }
   RosCompressedImage compressed;
-  compressed.header = RosHeader{Time(kT0 + 400000), "camera"};
+  compressed.header = RosHeader{UtimeToRosStamp(kT0 + 400000), "camera"};
   compressed.format = "mono8; png compressed";
   cv::imencode(".png", cv::Mat(48, 64, CV_8UC1, cv::Scalar(77)), compressed.data);
   recording.push_back(Recorded("/camera/image_raw/compressed", kT0 + 400000, compressed));
