@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "foundation/observed_covariance.hpp"
 #include "handeye/motion_selection.hpp"
 #include "handeye/node/result_conversion.hpp"
 #include "runtime/channels.hpp"
@@ -37,6 +38,7 @@ std::string HandEyeNodeSettings::Validate() const {
   if (!Positive(tolerance_rotation_deg)) return "tolerance_rotation_deg: must be positive";
   if (!Positive(tolerance_translation_m)) return "tolerance_translation_m: must be positive";
   if (max_iterations < 1 || max_iterations > 1000) return "max_iterations: must be in [1, 1000]";
+  if (!NonNegative(tolerance_std_fraction) || tolerance_std_fraction > 1) return "tolerance_std_fraction: must be in [0, 1]";
   if (!NonNegative(retry_s)) return "retry_s: must not be negative";
   if (max_motions < std::max(2, solver.min_pairs) || max_motions > 100000)
     return "max_motions: must be in [min_pairs, 100000] (min_pairs is " + std::to_string(solver.min_pairs) + ")";
@@ -48,6 +50,7 @@ HandEyeNodeSettings ReadHandEyeNodeSettings(ConfigReader r) {
   HandEyeNodeSettings s;
   r.Get("tolerance_rotation_deg", &s.tolerance_rotation_deg);
   r.Get("tolerance_translation_m", &s.tolerance_translation_m);
+  r.Get("tolerance_std_fraction", &s.tolerance_std_fraction);
   r.Get("max_iterations", &s.max_iterations);
   r.Get("retry_s", &s.retry_s);
   r.Get("scaled_refinement", &s.scaled_refinement);
@@ -209,7 +212,11 @@ void HandEyeNode::OnFusedMotions(Bus& bus, const motion_set_t& set) {
                       (result.T_camera_lidar.translation() - current_->T_camera_lidar.translation()).norm()};
   current_ = result;
   ++iteration_;
-  const bool small = change_rot_deg < settings_.tolerance_rotation_deg && change.translation_m < settings_.tolerance_translation_m;
+  const ObservedUncertainty observed =
+      ObservedPart(result.covariance, result.T_camera_lidar.linear(), result.unobservable_direction);
+  const double f = settings_.tolerance_std_fraction;
+  const bool small = change_rot_deg < std::max(settings_.tolerance_rotation_deg, f * observed.max_rotation_std_deg) &&
+                     change.translation_m < std::max(settings_.tolerance_translation_m, f * observed.max_translation_std_m);
   const bool done = small || iteration_ >= settings_.max_iterations;
   int8_t status = extrinsic_t::STATUS_REFINING;
   if (done)

@@ -27,6 +27,10 @@ namespace fusecal {
 struct HandEyeNodeSettings {
   double tolerance_rotation_deg = 1e-3;  // converged when one iteration changes less than both
   double tolerance_translation_m = 1e-4;
+  // ... or less than this fraction of the estimate's own standard deviation (largest over the axes, of
+  // the observed part): with few motions each iteration moves the estimate by a part of its noise, and
+  // iterating on would wander within it.
+  double tolerance_std_fraction = 0.2;
   int max_iterations = 15;               // scaled iterations per round
   double retry_s = 3.0;                  // republish an unanswered version after this (0: never)
   bool scaled_refinement = true;         // false: stop at the scaleless estimate
