@@ -1,10 +1,12 @@
-// The verdict from the noise the data show, its hysteresis, and outlier rejection that cannot cascade.
+// The verdict from the noise the data show, its hysteresis, outlier rejection that cannot cascade, and
+// camera trajectories with one global scale.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <random>
 
 #include "foundation/se3.hpp"
+#include "handeye/global_scale.hpp"
 #include "handeye/handeye_solver.hpp"
 #include "handeye/outlier_rejection.hpp"
 #include "handeye/synthetic_motions.hpp"
@@ -152,6 +154,54 @@ TEST(HandEyeScreening, AngleAgreementLimitGrowsWithTheTurn) {
   for (const auto& r : small.rejected_pairs) small_rejected_for_angles |= r.reason.find("angles disagree") != std::string::npos;
   EXPECT_FALSE(large_rejected_for_angles);
   EXPECT_TRUE(small_rejected_for_angles);
+}
+
+}  // namespace
+}  // namespace fusecal
+
+namespace fusecal {
+namespace {
+
+// A camera trajectory known up to one scale (0.37 of metric): the extrinsic comes out as from metric
+// motions, and lambda = 1 / 0.37 with a standard deviation that covers its error.
+TEST(HandEyeGlobalScale, RecoversTheExtrinsicAndTheScaleOfATrajectory) {
+  SyntheticMotionSettings settings;
+  settings.num_motions = 12;
+  settings.seed = 17;
+  settings.rotation_noise_deg = 0.02;
+  settings.translation_noise_m = 0.002;
+  SyntheticMotionSet set = GenerateSyntheticMotions(settings);
+  const HandEyeResult metric = SolveScaled(set.pairs);
+  for (auto& p : set.pairs) {
+    p.A.translation() *= 0.37;
+    p.camera_scaled = false;
+  }
+  const HandEyeResult global = SolveGlobalScale(set.pairs);
+  ASSERT_TRUE(global.usable()) << global.message;
+  EXPECT_EQ(global.status, HandEyeStatus::kConverged) << global.message;
+  EXPECT_TRUE(global.scaled);
+  ASSERT_EQ(global.scales.size(), 1u);
+  EXPECT_NEAR(global.scales[0], 1 / 0.37, 3 * global.scale_std_devs[0] + 1e-9);
+  EXPECT_LT(global.scale_std_devs[0], 0.05);
+  EXPECT_LT(RotationErrorDeg(global.T_camera_lidar.linear(), set.T_camera_lidar.linear()), 0.05);
+  EXPECT_LT((global.T_camera_lidar.translation() - set.T_camera_lidar.translation()).norm(), 0.01);
+  // As good as the metric motions (up to the noise the scale adds).
+  EXPECT_LT((global.T_camera_lidar.translation() - metric.T_camera_lidar.translation()).norm(), 0.005);
+  EXPECT_NE(global.message.find("global camera scale"), std::string::npos) << global.message;
+}
+
+// Camera translations that point against the LiDAR's everywhere: no positive scale, a failure that says so.
+TEST(HandEyeGlobalScale, ANegativeScaleIsAFailureThatSaysSo) {
+  SyntheticMotionSettings settings;
+  settings.num_motions = 10;
+  settings.seed = 18;
+  SyntheticMotionSet set = GenerateSyntheticMotions(settings);
+  for (auto& p : set.pairs) p.A.translation() *= -0.5;
+  HandEyeSettings s;
+  s.reject_outliers = false;
+  const HandEyeResult r = SolveGlobalScale(set.pairs, s);
+  EXPECT_FALSE(r.converged);
+  EXPECT_NE(r.message.find("global camera scale is not determined"), std::string::npos) << r.message;
 }
 
 }  // namespace

@@ -113,6 +113,27 @@ TEST(HandEyeCommand, SolvesScaledAndScalelessCsvAndReportsBadLines) {
   }
 }
 
+// A camera trajectory with one unknown scale (structure from motion, SLAM): `--camera-scale global` gives
+// the extrinsic and the scale; an unknown mode is refused by name.
+TEST(HandEyeCommand, OneGlobalScaleForTheCameraTrajectory) {
+  SyntheticMotionSettings settings;
+  settings.num_motions = 10;
+  settings.seed = 6;
+  SyntheticMotionSet set = GenerateSyntheticMotions(settings);
+  for (auto& p : set.pairs) p.A.translation() *= 2.5;
+  const std::string csv = Temp("global.csv"), out = Temp("global.yaml");
+  WriteCsv(csv, set);
+  const auto result = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale global --out " + out + " 2>&1");
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("global camera scale 0.4"), std::string::npos) << result.output;
+  const CalibrationResult r = ReadResultFile(out);
+  EXPECT_LT(RotationErrorDeg(r.T_camera_lidar.linear(), set.T_camera_lidar.linear()), 1e-6);
+  EXPECT_LT((r.T_camera_lidar.translation() - set.T_camera_lidar.translation()).norm(), 1e-6);
+  const auto bad = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale banana --out " + out + " 2>&1");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("--camera-scale"), std::string::npos) << bad.output;
+}
+
 TEST(HandEyeCommand, TooFewMotionsAndBadFilesFailClearly) {
   SyntheticMotionSettings settings;
   settings.num_motions = 1;
