@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -219,9 +220,10 @@ TEST(SimRender, SimulationIsDeterministicAndRandomAccessMatchesSequence) {
   EXPECT_EQ(cameras, a.num_camera_frames());
   EXPECT_EQ(scans, a.num_lidar_scans());
   EXPECT_GT(moving_cameras, 10);
-  // Tiny: 5 stations x 1 s + 4 moves of 1-1.5 s at 10 Hz.
-  EXPECT_GE(cameras, 90);
-  EXPECT_LE(cameras, 111);
+  // Tiny: 5 stations x still_s + 4 moves of 1-1.5 s at 10 Hz.
+  const double still_s = s.motions.still_s;
+  EXPECT_GE(cameras, static_cast<int>(10 * (5 * still_s + 4 * 1.0)));
+  EXPECT_LE(cameras, static_cast<int>(10 * (5 * still_s + 4 * 1.5)) + 1);
 
   // Frames requested out of order (cache cold, other station cached) are the same bytes.
   Simulation c(s);
@@ -244,7 +246,7 @@ TEST(SimRender, StationsAreGroundTruth) {
   const auto stations = sim.Stations();
   ASSERT_EQ(stations.size(), 5u);
   for (const auto& st : stations) {
-    EXPECT_EQ(st.still_to_utime - st.still_from_utime, 1000000);
+    EXPECT_EQ(st.still_to_utime - st.still_from_utime, std::llround(s.motions.still_s * 1e6));
     EXPECT_TRUE(st.T_world_camera.isApprox(st.T_world_lidar * s.T_camera_lidar.inverse(), 1e-12));
   }
   EXPECT_EQ(stations[0].still_from_utime, s.start_utime);
