@@ -312,6 +312,7 @@ class PipelineRun {
       if (ResupplyPending()) Pump(config_.idle_timeout_s, [&] { return !ResupplyPending(); });
       const size_t stations_before = session_.stations().size();
       bus_->PublishRaw(ch, ev->data.data(), ev->data.size());
+      if (ch == channels::kStation) ++stations_played_;
       if (options_.live) continue;  // sensors do not wait
       if (ch == channels::kStation) {
         station_t s{};
@@ -346,6 +347,8 @@ class PipelineRun {
   // Live: the log has ended but the stages may still be working on its last stations.
   void WaitForEveryStation() {
     Pump(config_.idle_timeout_s, [&] {
+      // The last stations played may not be back from the bus yet.
+      if (session_.stations().size() < stations_played_) return false;
       for (const auto& [id, station] : session_.stations())
         if (!SettledAfter(id, id == session_.stations().begin()->first)()) return false;
       return true;
@@ -405,6 +408,7 @@ class PipelineRun {
   static constexpr std::chrono::seconds kResupplyWait{5};
   std::string last_progress_;
   int stations_published_ = 0;
+  size_t stations_played_ = 0;  // STATION events of the log published (stations from the log)
   int written_version_ = -1;  // ros2: the last converged version written to extrinsic.yaml
   Clock::time_point replay_start_, last_player_status_;
   int64_t replay_start_wall_utime_ = 0;
