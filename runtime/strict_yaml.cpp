@@ -40,23 +40,32 @@ void CheckScalar(const YAML::Node& node, const std::string& text, const std::str
                     std::string(1, first) + " missing)");
 }
 
-void CheckNode(const YAML::Node& node, const std::string& text, const std::string& source, int depth) {
+// How many nodes the check may visit: a document without aliases has fewer nodes than characters; aliases
+// (*name) visit their anchor's nodes again, and nested ten at a time 500 bytes would make 10^9 of them.
+size_t NodeBudget(const std::string& text) { return 4 * text.size() + 1024; }
+
+void CheckNode(const YAML::Node& node, const std::string& text, const std::string& source, int depth,
+               size_t* budget) {
   if (depth > 64) throw YamlError(At(source, node.Mark()) + ": nested more than 64 levels deep");
+  if (*budget == 0)
+    throw YamlError(At(source, node.Mark()) + ": aliases (*name) expand the document to more than " +
+                    std::to_string(NodeBudget(text)) + " nodes");
+  --*budget;
   if (node.IsScalar()) {
     CheckScalar(node, text, source);
   } else if (node.IsSequence()) {
-    for (const YAML::Node& child : node) CheckNode(child, text, source, depth + 1);
+    for (const YAML::Node& child : node) CheckNode(child, text, source, depth + 1, budget);
   } else if (node.IsMap()) {
     std::map<std::string, int> first_line;
     for (auto it = node.begin(); it != node.end(); ++it) {
-      CheckNode(it->first, text, source, depth + 1);
+      CheckNode(it->first, text, source, depth + 1, budget);
       if (it->first.IsScalar()) {
         const auto [seen, fresh] = first_line.emplace(it->first.Scalar(), it->first.Mark().line + 1);
         if (!fresh)
           throw YamlError(At(source, it->first.Mark()) + ": duplicate key '" + it->first.Scalar() +
                           "' (first at line " + std::to_string(seen->second) + ")");
       }
-      CheckNode(it->second, text, source, depth + 1);
+      CheckNode(it->second, text, source, depth + 1, budget);
     }
   }
 }
@@ -108,7 +117,8 @@ YAML::Node LoadStrictYaml(const std::string& text, const std::string& source) {
   } catch (const YAML::Exception& e) {
     throw YamlError(source + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
   }
-  CheckNode(root, text, source, 0);
+  size_t budget = NodeBudget(text);
+  CheckNode(root, text, source, 0, &budget);
   return root;
 }
 

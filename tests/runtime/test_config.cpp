@@ -177,6 +177,23 @@ TEST(StrictYaml, EmptyEntriesInAFlowCollectionAreErrorsWithTheLine) {
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
 }
 
+// Aliases nested ten at a time: 511 bytes that expand to 10^9 nodes (a "billion laughs") kept the check
+// busy for hours (fuzzing); refused at once with the file and line. An anchor used a few times is fine.
+TEST(StrictYaml, AliasesThatExpandBeyondTheBudgetAreRefusedAtOnce) {
+  std::string bomb = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int i = 1; i <= 8; ++i) {
+    bomb += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [";
+    for (int k = 0; k < 10; ++k) bomb += (k ? ", *a" : "*a") + std::to_string(i - 1);
+    bomb += "]\n";
+  }
+  const auto start = std::chrono::steady_clock::now();
+  ExpectYamlError(bomb, "aliases (*name) expand the document to more than");
+  ExpectYamlError(bomb, "f.yaml:");
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
+  const YAML::Node ok = LoadStrictYaml("base: &b {fx: 1, fy: 2}\nleft: *b\nright: *b\n", "f.yaml");
+  EXPECT_EQ(ok["right"]["fy"].as<int>(), 2);
+}
+
 TEST(StrictYaml, AKeyGivenTwiceIsAnErrorWithBothLines) {
   ExpectYamlError("a: 1\nb: 2\na: 3\n", "f.yaml:3: duplicate key 'a' (first at line 1)");
   ExpectYamlError("s:\n  x: 1\n  y: 2\n  x: 1\n", "f.yaml:4: duplicate key 'x'");
