@@ -12,6 +12,7 @@
 #include "handeye/refinement.hpp"
 #include "handeye/rotation_solver.hpp"
 #include "handeye/screening.hpp"
+#include "handeye/serial_correlation.hpp"
 #include "handeye/translation_solver.hpp"
 #include "handeye/travel_direction.hpp"
 
@@ -231,6 +232,10 @@ void Finish(const Working& w, const std::vector<MotionPair>& input, const HandEy
     << " (rotation std <= " << obs.rotation_std_deg << " deg, translation std <= " << obs.translation_std_m
     << " m at the noise the residuals show, at least nominal); residual rms " << r->residual_rms_rot_deg << " deg, " << r->residual_rms_trans_m
     << " m; solver: " << est.message;
+  if (r->serial_correlation_inflation > 1.0)
+    m << "; residuals correlated in sequence (overlapping pairs?): uncertainty x "
+      << std::sqrt(r->serial_correlation_inflation) << ", as " << w.size() / r->serial_correlation_inflation
+      << " independent pairs";
   if (obs.verdict != Observability::kOk) {
     const ObservedUncertainty observed = ObservedPart(r->covariance, est.R, obs.direction);
     m << "; observed part (unobservable direction projected out): rotation std <= " << observed.max_rotation_std_deg
@@ -278,9 +283,12 @@ HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEy
   r.noise_trans_m = noise.trans_sigma_m;
 
   // The verdict from the noise the data show (never below nominal); given covariances count as they are
-  // unless the residuals say they were too small.
+  // unless the residuals say they were too small; pairs correlated in sequence count as fewer.
+  r.serial_correlation_inflation = SerialCorrelationInflation(w.pairs, est.R, est.t, noise, true);
   const double chi2_factor = given_cov ? std::max(1.0, ReducedChiSquare(w.pairs, est.R, est.t, noise)) : 1.0;
-  const ObservabilityReport obs = AnalyzeScaled(w.pairs, est.R, est.t, VerdictNoise(nominal, noise), s, chi2_factor);
+  const double variance_factor = chi2_factor * r.serial_correlation_inflation;
+  const ObservabilityReport obs =
+      AnalyzeScaled(w.pairs, est.R, est.t, VerdictNoise(nominal, noise), s, variance_factor);
   // Along unobservable directions the estimate is noise: keep the initial guess there (zero without one).
   if (obs.verdict == Observability::kRotationDegenerate) {
     if (initial) est.R = AlignAxis(initial->linear(), est.R.transpose() * obs.direction, obs.direction);
@@ -294,6 +302,7 @@ HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEy
   const int dof = 6 * w.size() - 6;
   if (!given_cov && dof > 0) C *= 2.0 * cost / dof;  // sigma^2 = 2 cost / dof
   if (given_cov) C *= chi2_factor;  // the given covariances were too small when the residuals exceed them
+  C *= r.serial_correlation_inflation;
   SetCovariance(Inflate(C, obs, est.R), &r);
   Finish(w, input, s, obs, est, {}, &r);
   return r;
@@ -370,7 +379,9 @@ HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const Han
   lt = SolveTranslation(w.pairs, est.R, true, prior);
   NoiseModel shown = noise;  // the noise the data show: rotation estimated above, translation from lt
   if (lt.dof > 0) shown.trans_sigma_m = std::sqrt(0.5 * lt.residual_sum_squares / lt.dof);
-  const ObservabilityReport obs = AnalyzeScaleless(w.pairs, est.R, lt, VerdictNoise(nominal, shown), s);
+  r.serial_correlation_inflation = SerialCorrelationInflation(w.pairs, est.R, est.t, noise, false);
+  const ObservabilityReport obs =
+      AnalyzeScaleless(w.pairs, est.R, lt, VerdictNoise(nominal, shown), s, r.serial_correlation_inflation);
   if (obs.verdict != Observability::kOk) {
     // Along unobservable directions the estimate is noise: keep the initial guess there (zero without one).
     if (initial && obs.verdict == Observability::kRotationDegenerate)
@@ -395,6 +406,7 @@ HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const Han
   Matrix6 C;
   C << C_rr, C_rr * G.transpose(), G * C_rr, C_tt_linear + G * C_rr * G.transpose();
 
+  C *= r.serial_correlation_inflation;
   SetScales(w, est.R, lt, C_rr, C_tt_linear, var_t, &r);
 
   SetCovariance(Inflate(C, obs, est.R), &r);

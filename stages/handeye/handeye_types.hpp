@@ -164,6 +164,9 @@ struct HandEyeResult {
   // Noise per sensor motion and axis that the final solve used (estimated from residuals, or nominal).
   double noise_rot_deg = 0.0;
   double noise_trans_m = 0.0;
+  // Variance inflation for pairs whose residuals are correlated in sequence (overlapping windows; 1: none),
+  // applied to the verdict and the covariance (handeye/serial_correlation.hpp).
+  double serial_correlation_inflation = 1.0;
 
   int iterations = 0;  // nonlinear iterations, all solves together
   std::string message;  // what the solve found, or why it failed

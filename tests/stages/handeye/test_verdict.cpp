@@ -93,6 +93,91 @@ TEST(HandEyeVerdict, HysteresisKeepsAVerdictNearItsThreshold) {
   EXPECT_EQ(verdict(std_deg / 0.5, degenerate), ok);
 }
 
+// A drive turning about the vertical, with a little pitch and roll, seen by two chained odometries (each
+// step adds its own noise, so a motion over five steps carries five steps' noise).
+struct ChainedDrive {
+  Isometry3 X;
+  std::vector<Isometry3> camera, lidar;  // odometry poses, frame 0 at the identity
+};
+
+ChainedDrive MakeChainedDrive(std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0.0, 1.0);
+  const auto noise = [&](double rot_deg, double trans_m) {
+    return MakeIsometry(ExpSO3(rot_deg * kDeg * Eigen::Vector3d(n(rng), n(rng), n(rng))),
+                        trans_m * Eigen::Vector3d(n(rng), n(rng), n(rng)));
+  };
+  ChainedDrive d;
+  d.X = MakeIsometry(RotationFromRpy(-90 * kDeg, 0, -90 * kDeg), Eigen::Vector3d(0.05, -0.1, -0.3));
+  d.camera.assign(1, Isometry3::Identity());
+  d.lidar.assign(1, Isometry3::Identity());
+  for (int k = 1; k < 80; ++k) {
+    const Eigen::Vector3d turn(0.3 * kDeg * n(rng), 0.3 * kDeg * n(rng), 8.0 * kDeg * std::sin(0.25 * k));
+    const Isometry3 step = MakeIsometry(ExpSO3(turn), Eigen::Vector3d(1.0, 0.0, 0.0));
+    d.lidar.push_back(d.lidar.back() * step * noise(0.15, 0.01));
+    d.camera.push_back(d.camera.back() * d.X * step * d.X.inverse() * noise(0.15, 0.01));
+  }
+  return d;
+}
+
+std::vector<MotionPair> Windows(const ChainedDrive& d, int length, int stride) {
+  std::vector<MotionPair> pairs;
+  for (int k = 0; k + length < static_cast<int>(d.lidar.size()); k += stride) {
+    MotionPair p;
+    p.station_i = k;
+    p.station_j = k + length;
+    p.A = d.camera[k].inverse() * d.camera[k + length];
+    p.B = d.lidar[k].inverse() * d.lidar[k + length];
+    pairs.push_back(p);
+  }
+  return pairs;
+}
+
+// The same drive cut into disjoint five-step motions (15 pairs) or into one five-step motion starting at
+// every step (75 pairs that overlap): the overlapping pairs carry no more information, and the solve must
+// not claim they do. Their residuals are correlated in sequence (about 1 - lag / 5), which counts them as
+// about 15 independent pairs: the verdict's and the reported std stay those of the disjoint pairs
+// (without the correction they were sqrt(5) smaller, and the verdict could call the rotation observed).
+TEST(HandEyeVerdict, OverlappingWindowsCountAsFewerPairs) {
+  for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const ChainedDrive drive = MakeChainedDrive(seed);
+    const HandEyeResult disjoint = SolveScaled(Windows(drive, 5, 5));
+    const HandEyeResult overlapping = SolveScaled(Windows(drive, 5, 1));
+    ASSERT_TRUE(disjoint.usable() && overlapping.usable()) << overlapping.message;
+    EXPECT_GT(overlapping.serial_correlation_inflation, 3.0);
+    EXPECT_LT(overlapping.serial_correlation_inflation, 7.0);
+    EXPECT_NE(overlapping.message.find("correlated in sequence"), std::string::npos) << overlapping.message;
+    const double ratio = overlapping.verdict_rotation_std_deg / disjoint.verdict_rotation_std_deg;
+    EXPECT_GT(ratio, 0.7) << overlapping.message;
+    EXPECT_LT(ratio, 1.4) << overlapping.message;
+    EXPECT_GT(overlapping.verdict_translation_std_m, 0.7 * disjoint.verdict_translation_std_m);
+    for (int k = 0; k < 3; ++k) EXPECT_GT(overlapping.std_dev_rot_deg(k), 0.7 * disjoint.std_dev_rot_deg(k));
+  }
+}
+
+// Independent pairs are not inflated: over 40 sets of random motions, almost all get kappa = 1 exactly.
+TEST(HandEyeVerdict, IndependentPairsAreNotInflated) {
+  int inflated = 0;
+  double sum = 0.0;
+  for (std::uint32_t seed = 1; seed <= 40; ++seed) {
+    const auto data = GenerateSyntheticMotions([seed] {
+      SyntheticMotionSettings s;
+      s.num_motions = 10;
+      s.rotation_noise_deg = 0.1;
+      s.translation_noise_m = 0.005;
+      s.seed = seed;
+      return s;
+    }());
+    const HandEyeResult r = SolveScaled(data.pairs);
+    ASSERT_TRUE(r.usable()) << r.message;
+    inflated += r.serial_correlation_inflation > 1.0;
+    sum += r.serial_correlation_inflation;
+  }
+  EXPECT_LE(inflated, 4);
+  EXPECT_LT(sum / 40, 1.1);
+}
+
 // Errors within what the nominal noise gives are not outliers, however the others look: a third of the
 // pairs with 2-4 cm translation errors among exact ones (the median of all is ~1 mm) stay in.
 TEST(HandEyeOutlierRejection, ErrorsWithinTheNominalNoiseDoNotCascade) {
