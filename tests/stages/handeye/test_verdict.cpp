@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <random>
 
+#include "foundation/observed_covariance.hpp"
 #include "foundation/se3.hpp"
 #include "handeye/global_scale.hpp"
 #include "handeye/handeye_solver.hpp"
@@ -100,7 +101,7 @@ struct ChainedDrive {
   std::vector<Isometry3> camera, lidar;  // odometry poses, frame 0 at the identity
 };
 
-ChainedDrive MakeChainedDrive(std::uint32_t seed) {
+ChainedDrive MakeChainedDrive(std::uint32_t seed, double wobble_deg = 0.3) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> n(0.0, 1.0);
   const auto noise = [&](double rot_deg, double trans_m) {
@@ -112,7 +113,7 @@ ChainedDrive MakeChainedDrive(std::uint32_t seed) {
   d.camera.assign(1, Isometry3::Identity());
   d.lidar.assign(1, Isometry3::Identity());
   for (int k = 1; k < 80; ++k) {
-    const Eigen::Vector3d turn(0.3 * kDeg * n(rng), 0.3 * kDeg * n(rng), 8.0 * kDeg * std::sin(0.25 * k));
+    const Eigen::Vector3d turn(wobble_deg * kDeg * n(rng), wobble_deg * kDeg * n(rng), 8.0 * kDeg * std::sin(0.25 * k));
     const Isometry3 step = MakeIsometry(ExpSO3(turn), Eigen::Vector3d(1.0, 0.0, 0.0));
     d.lidar.push_back(d.lidar.back() * step * noise(0.15, 0.01));
     d.camera.push_back(d.camera.back() * d.X * step * d.X.inverse() * noise(0.15, 0.01));
@@ -153,6 +154,29 @@ TEST(HandEyeVerdict, OverlappingWindowsCountAsFewerPairs) {
     EXPECT_LT(ratio, 1.4) << overlapping.message;
     EXPECT_GT(overlapping.verdict_translation_std_m, 0.7 * disjoint.verdict_translation_std_m);
     for (int k = 0; k < 3; ++k) EXPECT_GT(overlapping.std_dev_rot_deg(k), 0.7 * disjoint.std_dev_rot_deg(k));
+  }
+}
+
+// A drive on a flat road (0.02 deg of pitch and roll per step) turns about the vertical only. The height
+// of the camera over the LiDAR (t along the vertical) is then not observed; the rotation about the
+// vertical only through the directions of travel. Whether the motions are disjoint or overlapping windows,
+// the result is never "converged", the direction it names is the vertical, and the observed part of the
+// rotation is known to well within 1 deg.
+TEST(HandEyeVerdict, AFlatDriveNeverConvergesAndNamesTheVertical) {
+  for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+    const ChainedDrive drive = MakeChainedDrive(seed, 0.02);
+    const Eigen::Vector3d vertical = drive.X.linear() * Eigen::Vector3d::UnitZ();  // camera frame
+    for (int stride : {5, 1}) {
+      SCOPED_TRACE("seed " + std::to_string(seed) + ", stride " + std::to_string(stride));
+      const HandEyeResult r = SolveScaled(Windows(drive, 5, stride));
+      ASSERT_TRUE(r.usable()) << r.message;
+      EXPECT_NE(r.status, HandEyeStatus::kConverged) << r.message;
+      EXPECT_NE(r.observability, Observability::kOk) << r.message;
+      EXPECT_GT(std::abs(r.unobservable_direction.dot(vertical)), 0.95) << r.message;
+      const ObservedUncertainty observed = ObservedPart(r.covariance, r.T_camera_lidar.linear(), r.unobservable_direction);
+      EXPECT_LT(observed.max_rotation_std_deg, 1.0) << r.message;
+      EXPECT_GT(observed.max_rotation_std_deg, 0.0);
+    }
   }
 }
 
