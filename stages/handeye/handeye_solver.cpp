@@ -167,8 +167,7 @@ double ReducedChiSquare(const std::vector<MotionPair>& pairs, const Eigen::Matri
   if (dof <= 0) return 1.0;
   double sum = 0.0;
   for (const auto& p : pairs) {
-    Vector6 r;
-    r << RotationResidual(p, R), TranslationResidual(p, R, t);
+    const Vector6 r = PairResidual(p, R, t);
     sum += r.dot(ResidualCovariance(p, R, t, noise).ldlt().solve(r));
   }
   return std::isfinite(sum) ? sum / dof : 1.0;
@@ -406,9 +405,9 @@ HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const Han
   Matrix6 C;
   C << C_rr, C_rr * G.transpose(), G * C_rr, C_tt_linear + G * C_rr * G.transpose();
 
-  C *= r.serial_correlation_inflation;
   SetScales(w, est.R, lt, C_rr, C_tt_linear, var_t, &r);
 
+  C *= r.serial_correlation_inflation;
   SetCovariance(Inflate(C, obs, est.R), &r);
   Finish(w, input, s, obs, est, lt.scales, &r);
   return r;

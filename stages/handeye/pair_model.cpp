@@ -45,6 +45,12 @@ Eigen::Vector3d TranslationResidual(const MotionPair& pair, const Eigen::Matrix3
   return (Ra - Eigen::Matrix3d::Identity()) * t + scale * pair.A.translation() - R * pair.B.translation();
 }
 
+Vector6 PairResidual(const MotionPair& pair, const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
+  Vector6 r;
+  r << RotationResidual(pair, R), TranslationResidual(pair, R, t);
+  return r;
+}
+
 Matrix6 JacobianWrtA(const MotionPair& pair, const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
   Matrix6 J = Matrix6::Zero();
   J.topLeftCorner<3, 3>() = R.transpose();

@@ -30,6 +30,8 @@ bool AllHaveCovariances(const std::vector<MotionPair>& pairs);
 Eigen::Vector3d RotationResidual(const MotionPair& pair, const Eigen::Matrix3d& R);
 Eigen::Vector3d TranslationResidual(const MotionPair& pair, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
                                     double scale = 1.0);
+// [r_rot ; r_t] of a scaled pair (scale 1).
+Vector6 PairResidual(const MotionPair& pair, const Eigen::Matrix3d& R, const Eigen::Vector3d& t);
 
 // Jacobians of [r_rot ; r_t] with respect to the perturbations of A and of B (MotionPair's model), at (R, t):
 //   d r_rot = R^T d_rot_a - d_rot_b,   d r_t = -R_a [t]x d_rot_a + d_t_a - R d_t_b.

@@ -12,10 +12,8 @@ double SerialCorrelationInflation(const std::vector<MotionPair>& pairs, const Ei
   std::vector<Eigen::VectorXd> whitened;
   whitened.reserve(n);
   for (const auto& p : pairs) {
-    Vector6 r;
-    r << RotationResidual(p, R), TranslationResidual(p, R, t);
     const Eigen::MatrixXd W = WhiteningMatrix(ResidualCovariance(p, R, t, noise).topLeftCorner(dim, dim));
-    whitened.push_back(W * r.head(dim));
+    whitened.push_back(W * PairResidual(p, R, t).head(dim));
   }
   double energy = 0.0;
   for (const auto& v : whitened) energy += v.squaredNorm();
