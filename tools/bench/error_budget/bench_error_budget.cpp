@@ -1,0 +1,234 @@
+// Not a test: where the error of a simulated calibration comes from. Reads the session log of
+// `fusecal calibrate` on a simulated log (it carries GROUND_TRUTH, the stations, the LiDAR motions and the
+// EXTRINSIC messages) and, for the pairs the final result used:
+//   - each motion against the truth: the LiDAR motions as logged, the fused camera motions recomputed at
+//     the TRUE extrinsic (so that their errors are their own, not the extrinsic's): rotation angle error
+//     and translation length error (relative);
+//   - one scaled hand-eye solve from those motions (the alternation's step at the truth; the final result
+//     is its fixed point), and the same with either side replaced by the truth: which sensor's motions
+//     make the error of the extrinsic;
+//   - with --feedback, the alternation's feedback J = d step / d X by finite differences at the truth
+//     (a fixed point of a step with feedback J has (I - J)^-1 times the step's error).
+// One CSV line per finding (tools/checks/error_budget_summary.py adds up many sessions):
+//   motion,<camera|lidar>,i,j,angle_deg,angle_error_deg,length_m,length_error (relative)
+//   extrinsic,<both|camera|lidar>,d_rot x y z (rad),d_t x y z (m),std of the 6 (same units)
+//   feedback,<|eigenvalue| of J, 6, largest first>
+// d = estimate - truth, R = R_true Exp(d_rot), t = t_true + d_t (docs/design.md section 2).
+// Usage: bench_error_budget SESSION.lcmlog [--feedback]
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "formats/conversions.hpp"
+#include "fusecal/extrinsic_t.hpp"
+#include "fusecal/ground_truth_t.hpp"
+#include "fusecal/motion_t.hpp"
+#include "fusecal/station_t.hpp"
+#include "fusion_odometry/fusion_odometry.hpp"
+#include "handeye/handeye_solver.hpp"
+#include "runtime/lcm_log.hpp"
+
+using namespace fusecal;
+
+namespace {
+
+using PairKey = std::pair<int, int>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+struct Station {
+  int64_t utime = 0;
+  PointCloud cloud;
+  cv::Mat image;
+  std::unique_ptr<CameraModel> camera;
+};
+
+struct Session {
+  std::map<int, Station> stations;
+  std::map<PairKey, Isometry3> lidar_motions;
+  std::optional<ground_truth_t> truth;
+  Isometry3 X_true = Isometry3::Identity();
+  std::vector<PairKey> used;  // by the last EXTRINSIC
+};
+
+template <class M>
+M Decode(const LogEvent& e) {
+  M m;
+  if (m.decode(e.data.data(), 0, static_cast<int>(e.data.size())) < 0) throw LogError("undecodable " + e.channel);
+  return m;
+}
+
+Session ReadSession(const std::string& path) {
+  Session s;
+  LogReader reader(path);
+  std::optional<extrinsic_t> last;
+  while (auto e = reader.Next()) {
+    if (e->channel == "STATION") {
+      const auto m = Decode<station_t>(*e);
+      Station& st = s.stations[m.id];
+      st.utime = m.utime;
+      st.cloud = CloudFromMsg(m.cloud);
+      st.image = ImageToMat(m.image);
+      st.camera = MakeCameraModel(CameraFromMsg(m.camera));
+    } else if (e->channel == "LIDAR_MOTION") {
+      const auto m = Decode<motion_t>(*e);
+      if (m.valid) s.lidar_motions[{m.station_i, m.station_j}] = FromRowMajor(m.T_i_j);
+    } else if (e->channel == "GROUND_TRUTH") {
+      s.truth = Decode<ground_truth_t>(*e);
+      s.X_true = FromRowMajor(s.truth->T_camera_lidar);
+    } else if (e->channel == "EXTRINSIC") {
+      last = Decode<extrinsic_t>(*e);
+    }
+  }
+  if (!s.truth) throw LogError(path + ": no GROUND_TRUTH (a session of `fusecal calibrate` on a simulated log?)");
+  if (!last) throw LogError(path + ": no EXTRINSIC");
+  for (int k = 0; k < last->num_used; ++k) s.used.push_back({last->used_station_i[k], last->used_station_j[k]});
+  return s;
+}
+
+// The true LiDAR motion between two stations: each station is matched to the still interval of the truth
+// that holds its time (detected stations need not be numbered as the truth's).
+std::optional<Isometry3> TrueLidarMotion(const Session& s, const PairKey& pair) {
+  const auto pose = [&s](int id) -> std::optional<Isometry3> {
+    const int64_t t = s.stations.at(id).utime;
+    const ground_truth_t& g = *s.truth;
+    for (int k = 0; k < g.num_stations; ++k)
+      if (t >= g.still_from_utime[k] && t <= g.still_to_utime[k]) return FromRowMajor(g.T_world_lidar[k].data());
+    return std::nullopt;
+  };
+  const auto Pi = pose(pair.first), Pj = pose(pair.second);
+  if (!Pi || !Pj) return std::nullopt;
+  return Isometry3(Pi->inverse() * *Pj);
+}
+
+Vector6d Difference(const Isometry3& truth, const Isometry3& estimate) {
+  Vector6d d;
+  d.head<3>() = LogSO3(truth.linear().transpose() * estimate.linear());
+  d.tail<3>() = estimate.translation() - truth.translation();
+  return d;
+}
+
+Isometry3 Perturbed(const Isometry3& X, const Vector6d& d) {
+  Isometry3 Y = X;
+  Y.linear() = X.linear() * ExpSO3(d.head<3>());
+  Y.translation() += d.tail<3>();
+  return Y;
+}
+
+// Pairs of the used motions: camera motions fused at X (nullopt: failed), LiDAR motions as logged.
+struct Motions {
+  std::vector<PairKey> keys;
+  std::vector<Isometry3> camera, lidar, lidar_true;
+};
+
+Motions Fuse(const Session& s, const Isometry3& X) {
+  Motions m;
+  for (const PairKey& key : s.used) {
+    const auto lidar = s.lidar_motions.find(key);
+    const auto truth = TrueLidarMotion(s, key);
+    if (lidar == s.lidar_motions.end() || !truth) continue;
+    const Station& si = s.stations.at(key.first);
+    fusion_odometry::MotionGuess guess;
+    guess.T_ci_cj = fusion_odometry::CameraMotionFromLidar(X, lidar->second);
+    guess.reliable = true;  // as in the alternation's later rounds (warm start)
+    const auto fused = fusion_odometry::EstimateScaledMotion(si.cloud, si.image, s.stations.at(key.second).image,
+                                                             *si.camera, X, guess);
+    if (!fused.usable()) continue;
+    m.keys.push_back(key);
+    m.camera.push_back(fused.T_ci_cj);
+    m.lidar.push_back(lidar->second);
+    m.lidar_true.push_back(*truth);
+  }
+  return m;
+}
+
+enum class Side { kBoth, kCameraOnly, kLidarOnly };
+
+HandEyeResult Step(const Session& s, const Motions& m, Side side) {
+  std::vector<MotionPair> pairs;
+  for (size_t k = 0; k < m.keys.size(); ++k) {
+    MotionPair p;
+    p.station_i = m.keys[k].first;
+    p.station_j = m.keys[k].second;
+    p.A = side == Side::kLidarOnly ? Isometry3(s.X_true * m.lidar_true[k] * s.X_true.inverse()) : m.camera[k];
+    p.B = side == Side::kCameraOnly ? m.lidar_true[k] : m.lidar[k];
+    pairs.push_back(p);
+  }
+  return SolveScaled(pairs, HandEyeSettings{}, &s.X_true);
+}
+
+void PrintMotionErrors(const char* kind, const PairKey& key, const Isometry3& estimate, const Isometry3& truth) {
+  const double angle = LogSO3(truth.linear()).norm(), angle_estimate = LogSO3(estimate.linear()).norm();
+  const double length2 = truth.translation().squaredNorm();
+  const double length_error = length2 > 0 ? estimate.translation().dot(truth.translation()) / length2 - 1.0 : 0.0;
+  std::printf("motion,%s,%d,%d,%.6f,%.6g,%.6f,%.6g\n", kind, key.first, key.second, angle * 180 / M_PI,
+              (angle_estimate - angle) * 180 / M_PI, std::sqrt(length2), length_error);
+}
+
+void PrintExtrinsic(const char* name, const Session& s, const HandEyeResult& r) {
+  if (!r.usable()) {
+    std::fprintf(stderr, "%s: solve failed: %s\n", name, r.message.c_str());
+    return;
+  }
+  const Vector6d d = Difference(s.X_true, r.T_camera_lidar);
+  std::printf("extrinsic,%s", name);
+  for (int k = 0; k < 6; ++k) std::printf(",%.6g", d[k]);
+  for (int k = 0; k < 6; ++k) std::printf(",%.6g", std::sqrt(std::max(r.covariance(k, k), 0.0)));
+  std::printf("\n");
+}
+
+// J = d Difference(X_true, Step(Fuse(X))) / d X at the truth, one column per perturbed axis.
+void PrintFeedback(const Session& s, const HandEyeResult& at_truth) {
+  const Vector6d base = Difference(s.X_true, at_truth.T_camera_lidar);
+  const double h[6] = {3.5e-4, 3.5e-4, 3.5e-4, 5e-4, 5e-4, 5e-4};  // 0.02 deg, 0.5 mm: a few std of the result
+  Eigen::Matrix<double, 6, 6> J;
+  for (int k = 0; k < 6; ++k) {
+    Vector6d d = Vector6d::Zero();
+    d[k] = h[k];
+    const Isometry3 X = Perturbed(s.X_true, d);
+    const HandEyeResult r = Step(s, Fuse(s, X), Side::kBoth);
+    J.col(k) = r.usable() ? Vector6d((Difference(s.X_true, r.T_camera_lidar) - base) / h[k]) : Vector6d::Zero();
+  }
+  const Eigen::EigenSolver<Eigen::Matrix<double, 6, 6>> eig(J);
+  std::vector<double> magnitudes;
+  for (int k = 0; k < 6; ++k) magnitudes.push_back(std::abs(eig.eigenvalues()[k]));
+  std::sort(magnitudes.rbegin(), magnitudes.rend());
+  std::printf("feedback");
+  for (double v : magnitudes) std::printf(",%.4f", v);
+  std::printf("\n");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || (argc == 3 && std::strcmp(argv[2], "--feedback")) || argc > 3) {
+    std::fprintf(stderr, "usage: bench_error_budget SESSION.lcmlog [--feedback]\n");
+    return 2;
+  }
+  try {
+    const Session s = ReadSession(argv[1]);
+    const Motions m = Fuse(s, s.X_true);
+    if (m.keys.size() < 3) {
+      std::fprintf(stderr, "%s: %zu usable pairs at the truth, too few\n", argv[1], m.keys.size());
+      return 1;
+    }
+    for (size_t k = 0; k < m.keys.size(); ++k) {
+      PrintMotionErrors("camera", m.keys[k], m.camera[k], s.X_true * m.lidar_true[k] * s.X_true.inverse());
+      PrintMotionErrors("lidar", m.keys[k], m.lidar[k], m.lidar_true[k]);
+    }
+    const HandEyeResult both = Step(s, m, Side::kBoth);
+    PrintExtrinsic("both", s, both);
+    PrintExtrinsic("camera", s, Step(s, m, Side::kCameraOnly));
+    PrintExtrinsic("lidar", s, Step(s, m, Side::kLidarOnly));
+    if (argc == 3 && both.usable()) PrintFeedback(s, both);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
