@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The error budget on a calibration of the tiny scenario: each motion fused again at the true extrinsic
-# is within 0.1 deg and 2 cm (along its translation) of the truth, as is each LiDAR motion; the solve from both sensors is within
-# 5 std of the truth; the alternation contracts at the truth (every |eigenvalue| of its feedback < 1);
-# the summary adds the lines up.
+# The error budget on a calibration of the tiny scenario: each motion fused again at the true extrinsic,
+# and each LiDAR motion, is within 0.1 deg and 2 cm (along its translation) of the truth; the solve from
+# both sensors is within 5 std of the truth; the alternation contracts at the truth (every |eigenvalue|
+# of its feedback < 1); the summary adds the lines up.
 # Usage: error_budget_tiny.sh BIN_DIR WORK_DIR
 set -euo pipefail
 bin="$1" work="$2"

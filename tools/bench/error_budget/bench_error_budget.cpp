@@ -17,6 +17,7 @@
 // Usage: bench_error_budget SESSION.lcmlog [--feedback]
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <map>
@@ -120,7 +121,7 @@ Isometry3 Perturbed(const Isometry3& X, const Vector6d& d) {
   return Y;
 }
 
-// Pairs of the used motions: camera motions fused at X (nullopt: failed), LiDAR motions as logged.
+// The used pairs whose camera motion fuses at X: that motion, the LiDAR motion as logged, and the truth.
 struct Motions {
   std::vector<PairKey> keys;
   std::vector<Isometry3> camera, lidar, lidar_true;
