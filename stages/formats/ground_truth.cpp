@@ -17,6 +17,12 @@ std::optional<ground_truth_t> ReadGroundTruth(const std::string& log_path) {
   return truth;
 }
 
+std::optional<int> TruthStationAt(const ground_truth_t& truth, int64_t utime) {
+  for (int k = 0; k < truth.num_stations; ++k)
+    if (truth.still_from_utime[k] <= utime && utime <= truth.still_to_utime[k]) return k;
+  return std::nullopt;
+}
+
 Isometry3 ReadReferenceExtrinsic(const std::string& path) {
   const auto ends_with = [&](const std::string& suffix) {
     return path.size() >= suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;

@@ -13,6 +13,11 @@ namespace fusecal {
 // is not a log.
 std::optional<ground_truth_t> ReadGroundTruth(const std::string& log_path);
 
+// The index (into station_id, T_world_lidar, ...) of the truth's still interval that holds `utime`, or
+// nullopt: detected stations are matched to the truth by time, not by id (a detector may number them
+// differently, or miss one).
+std::optional<int> TruthStationAt(const ground_truth_t& truth, int64_t utime);
+
 // The reference T_camera_lidar from a log (GROUND_TRUTH) or a result YAML (.yaml/.yml). Throws
 // std::runtime_error with the reason when there is none.
 Isometry3 ReadReferenceExtrinsic(const std::string& log_or_yaml);

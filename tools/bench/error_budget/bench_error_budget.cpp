@@ -27,12 +27,15 @@
 #include <vector>
 
 #include "formats/conversions.hpp"
+#include "formats/ground_truth.hpp"
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/ground_truth_t.hpp"
 #include "fusecal/motion_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "fusion_odometry/fusion_odometry.hpp"
 #include "handeye/handeye_solver.hpp"
+#include "runtime/bus.hpp"
+#include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
 
 using namespace fusecal;
@@ -60,7 +63,7 @@ struct Session {
 template <class M>
 M Decode(const LogEvent& e) {
   M m;
-  if (m.decode(e.data.data(), 0, static_cast<int>(e.data.size())) < 0) throw LogError("undecodable " + e.channel);
+  DecodeMessage(e.data.data(), e.data.size(), e.channel, &m);
   return m;
 }
 
@@ -69,20 +72,20 @@ Session ReadSession(const std::string& path) {
   LogReader reader(path);
   std::optional<extrinsic_t> last;
   while (auto e = reader.Next()) {
-    if (e->channel == "STATION") {
+    if (e->channel == channels::kStation) {
       const auto m = Decode<station_t>(*e);
       Station& st = s.stations[m.id];
       st.utime = m.utime;
       st.cloud = CloudFromMsg(m.cloud);
       st.image = ImageToMat(m.image);
       st.camera = MakeCameraModel(CameraFromMsg(m.camera));
-    } else if (e->channel == "LIDAR_MOTION") {
+    } else if (e->channel == channels::kLidarMotion) {
       const auto m = Decode<motion_t>(*e);
       if (m.valid) s.lidar_motions[{m.station_i, m.station_j}] = FromRowMajor(m.T_i_j);
-    } else if (e->channel == "GROUND_TRUTH") {
+    } else if (e->channel == channels::kGroundTruth) {
       s.truth = Decode<ground_truth_t>(*e);
       s.X_true = FromRowMajor(s.truth->T_camera_lidar);
-    } else if (e->channel == "EXTRINSIC") {
+    } else if (e->channel == channels::kExtrinsic) {
       last = Decode<extrinsic_t>(*e);
     }
   }
@@ -96,11 +99,9 @@ Session ReadSession(const std::string& path) {
 // that holds its time (detected stations need not be numbered as the truth's).
 std::optional<Isometry3> TrueLidarMotion(const Session& s, const PairKey& pair) {
   const auto pose = [&s](int id) -> std::optional<Isometry3> {
-    const int64_t t = s.stations.at(id).utime;
-    const ground_truth_t& g = *s.truth;
-    for (int k = 0; k < g.num_stations; ++k)
-      if (t >= g.still_from_utime[k] && t <= g.still_to_utime[k]) return FromRowMajor(g.T_world_lidar[k].data());
-    return std::nullopt;
+    const auto k = TruthStationAt(*s.truth, s.stations.at(id).utime);
+    if (!k) return std::nullopt;
+    return FromRowMajor(s.truth->T_world_lidar[*k].data());
   };
   const auto Pi = pose(pair.first), Pj = pose(pair.second);
   if (!Pi || !Pj) return std::nullopt;

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "formats/extrinsic_status.hpp"
+#include "formats/ground_truth.hpp"
 #include "runtime/output_file.hpp"
 
 namespace fusecal {
@@ -13,11 +14,8 @@ namespace {
 
 // The end of the still interval the station was taken in.
 int64_t StationEnd(const SessionRecord& session, const StationTimes& station) {
-  if (const auto& truth = session.ground_truth()) {
-    for (int k = 0; k < truth->num_stations; ++k)
-      if (truth->still_from_utime[k] <= station.utime && station.utime <= truth->still_to_utime[k])
-        return truth->still_to_utime[k];
-  }
+  if (const auto& truth = session.ground_truth())
+    if (const auto k = TruthStationAt(*truth, station.utime)) return truth->still_to_utime[*k];
   return station.still_to_utime;
 }
 
