@@ -13,6 +13,7 @@
 #include "handeye/rotation_solver.hpp"
 #include "handeye/screening.hpp"
 #include "handeye/serial_correlation.hpp"
+#include "handeye/shared_error.hpp"
 #include "handeye/translation_solver.hpp"
 #include "handeye/travel_direction.hpp"
 
@@ -302,6 +303,7 @@ HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEy
   if (!given_cov && dof > 0) C *= 2.0 * cost / dof;  // sigma^2 = 2 cost / dof
   if (given_cov) C *= chi2_factor;  // the given covariances were too small when the residuals exceed them
   C *= r.serial_correlation_inflation;
+  C += SharedErrorCovariance(w.pairs, est.R, est.t, noise, s.shared_camera_errors, s.shared_lidar_errors);
   SetCovariance(Inflate(C, obs, est.R), &r);
   Finish(w, input, s, obs, est, {}, &r);
   return r;

@@ -27,6 +27,7 @@ std::string HandEyeSettings::Validate() const {
   else if (!Positive(max_rotation_std_deg)) e << "max_rotation_std_deg must be > 0";
   else if (!Positive(max_translation_std_m)) e << "max_translation_std_m must be > 0";
   else if (!(verdict_hysteresis >= 0 && verdict_hysteresis < 1)) e << "verdict_hysteresis must be in [0, 1)";
+  else if (!shared_camera_errors.Valid() || !shared_lidar_errors.Valid()) e << "shared error sizes must be >= 0";
   else if (max_iterations < 1) e << "max_iterations must be >= 1";
   else if (!NonNegative(function_tolerance) || !NonNegative(parameter_tolerance) || !NonNegative(gradient_tolerance))
     e << "solver tolerances must be >= 0";

@@ -17,6 +17,16 @@
 
 namespace fusecal {
 
+// Standard deviations of the entries of a linear map of a motion that all motions of one sensor share:
+// d_rot = G w, d_t = H t + K w (handeye/shared_error.hpp).
+struct SharedErrors {
+  double rotation_per_rotation = 0.0;        // G: rad per rad of the motion's rotation
+  double translation_per_translation = 0.0;  // H: m per m of the motion's translation
+  double translation_per_rotation_m = 0.0;   // K: m per rad of the motion's rotation
+  bool Any() const { return rotation_per_rotation > 0 || translation_per_translation > 0 || translation_per_rotation_m > 0; }
+  bool Valid() const { return rotation_per_rotation >= 0 && translation_per_translation >= 0 && translation_per_rotation_m >= 0; }
+};
+
 // One motion seen by both sensors.
 //
 // Covariances are 6x6 over [rotation (rad) ; translation (m)] with the perturbation model
@@ -89,6 +99,13 @@ struct HandEyeSettings {
   double nominal_rotation_sigma_deg = 0.1;
   double nominal_translation_sigma_m = 0.01;
   bool estimate_noise_from_residuals = true;
+
+  // Errors every motion of one sensor shares (handeye/shared_error.hpp): standard deviations of the
+  // entries of one unknown linear map per sensor, added to the covariance of the scaled solve. The
+  // camera's translation part is the size fusion odometry's shared errors have in simulation
+  // (docs/design.md, "Errors every motion shares"; config: handeye.shared_errors).
+  SharedErrors shared_camera_errors{0.0, 4e-4, 2e-4};
+  SharedErrors shared_lidar_errors;
 
   // --- Observability verdict ---
   // The verdict uses the information matrix of the used pairs under the noise the data show: per sensor
