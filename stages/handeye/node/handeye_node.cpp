@@ -46,6 +46,15 @@ std::string HandEyeNodeSettings::Validate() const {
   return solver_problem.empty() ? solver_problem : "solver." + solver_problem;
 }
 
+namespace {
+void ReadSharedErrors(ConfigReader r, SharedErrors* e) {
+  r.Get("rotation_per_rotation", &e->rotation_per_rotation, ::fusecal::NonNegative<double>());
+  r.Get("translation_per_translation", &e->translation_per_translation, ::fusecal::NonNegative<double>());
+  r.Get("translation_per_rotation_m", &e->translation_per_rotation_m, ::fusecal::NonNegative<double>());
+  r.Finish();
+}
+}  // namespace
+
 HandEyeNodeSettings ReadHandEyeNodeSettings(ConfigReader r) {
   HandEyeNodeSettings s;
   r.Get("tolerance_rotation_deg", &s.tolerance_rotation_deg);
@@ -58,6 +67,10 @@ HandEyeNodeSettings ReadHandEyeNodeSettings(ConfigReader r) {
   r.Get("max_angle_difference_deg", &s.solver.max_angle_difference_deg);
   r.Get("min_rotation_deg", &s.solver.min_rotation_deg);
   r.Get("min_pairs", &s.solver.min_pairs);
+  ConfigReader shared = r.Child("shared_errors");
+  ReadSharedErrors(shared.Child("camera"), &s.solver.shared_camera_errors);
+  ReadSharedErrors(shared.Child("lidar"), &s.solver.shared_lidar_errors);
+  shared.Finish();
   r.Finish();
   r.FailIfInvalid(s.Validate(), {{"max_angle_difference_deg", "solver.max_angle_difference_deg"},
                                  {"min_rotation_deg", "solver.min_rotation_deg"},

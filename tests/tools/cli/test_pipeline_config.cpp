@@ -70,6 +70,10 @@ TEST(PipelineConfig, OutOfRangeValuesNameTheKeyAndTheRange) {
       {"handeye", "min_pairs: 1", &kHandEye, "'handeye.min_pairs' must be >= 2"},
       {"handeye", "min_rotation_deg: 200", &kHandEye, "'handeye.min_rotation_deg' must be in [0, 180)"},
       {"handeye", "max_angle_difference_deg: 0", &kHandEye, "'handeye.max_angle_difference_deg' must be > 0"},
+      {"handeye", "shared_errors: {camera: {translation_per_translation: -1e-4}}", &kHandEye,
+       "'handeye.shared_errors.camera.translation_per_translation' must not be negative"},
+      {"handeye", "shared_errors: {lidar: {range_scale: 1e-3}}", &kHandEye,
+       "unknown key: 'handeye.shared_errors.lidar.range_scale'"},
       {"ros2_tf", "domain: 300", &kRos2Tf, "'ros2_tf.domain' must be in [0, 232]"},
       {"ros2_tf", "child_frame: camera", &kRos2Tf,
        "'ros2_tf': parent_frame and child_frame must be two different, non-empty frame ids"},
@@ -86,6 +90,7 @@ TEST(PipelineConfig, ValuesWithinTheSettingsRangesAreAccepted) {
   EXPECT_EQ(ErrorOf("lidar_icp", "max_correspondence_m: 0", kLidarIcp), "");  // automatic
   EXPECT_EQ(ErrorOf("camera_frontend", "ratio: 0.05", kCameraFrontend), "");
   EXPECT_EQ(ErrorOf("handeye", "min_pairs: 2000, max_motions: 2000", kHandEye), "");
+  EXPECT_EQ(ErrorOf("handeye", "shared_errors: {camera: {rotation_per_rotation: 1e-3}, lidar: {}}", kHandEye), "");
   // More pairs for a verdict than are ever held is a contradiction, named.
   EXPECT_NE(ErrorOf("handeye", "min_pairs: 2000", kHandEye).find("max_motions"), std::string::npos);
   EXPECT_EQ(ErrorOf("ros2_tf", "domain: 232", kRos2Tf), "");
