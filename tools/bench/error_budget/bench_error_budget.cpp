@@ -10,8 +10,11 @@
 //   - with --feedback, the alternation's feedback J = d step / d X by finite differences at the truth
 //     (a fixed point of a step with feedback J has (I - J)^-1 times the step's error).
 // One CSV line per finding (tools/checks/error_budget_summary.py adds up many sessions):
-//   motion,<camera|lidar>,i,j,angle_deg,angle_error_deg,length_m,length_error (relative)
-//   extrinsic,<both|camera|lidar>,d_rot x y z (rad),d_t x y z (m),std of the 6 (same units)
+//   motion,<camera|lidar>,i,j,angle_deg,angle_error_deg,length_m,length_error (relative),
+//          d_rot x y z (rad),d_t x y z (m) (estimate against truth, MotionPair's model),
+//          w x y z (rad),t x y z (m) (the true motion: rotation vector, translation)
+//   extrinsic,<both|camera|lidar|shared>,d_rot x y z (rad),d_t x y z (m),std of the 6 (same units)
+//     (std from the residuals alone; "shared": the solve from both with the default shared errors added)
 //   feedback,<|eigenvalue| of J, 6, largest first>
 // d = estimate - truth, R = R_true Exp(d_rot), t = t_true + d_t (docs/design.md section 2).
 // Usage: bench_error_budget SESSION.lcmlog [--feedback]
@@ -151,7 +154,9 @@ Motions Fuse(const Session& s, const Isometry3& X) {
 
 enum class Side { kBoth, kCameraOnly, kLidarOnly };
 
-HandEyeResult Step(const Session& s, const Motions& m, Side side) {
+// One scaled solve; its covariance from the residuals alone unless `with_shared_errors` (the defaults'
+// shared errors of handeye/shared_error.hpp added, as the pipeline reports).
+HandEyeResult Step(const Session& s, const Motions& m, Side side, bool with_shared_errors = false) {
   std::vector<MotionPair> pairs;
   for (size_t k = 0; k < m.keys.size(); ++k) {
     MotionPair p;
@@ -161,15 +166,21 @@ HandEyeResult Step(const Session& s, const Motions& m, Side side) {
     p.B = side == Side::kCameraOnly ? m.lidar_true[k] : m.lidar[k];
     pairs.push_back(p);
   }
-  return SolveScaled(pairs, HandEyeSettings{}, &s.X_true);
+  HandEyeSettings settings;
+  if (!with_shared_errors) settings.shared_camera_errors = settings.shared_lidar_errors = SharedErrors{};
+  return SolveScaled(pairs, settings, &s.X_true);
 }
 
 void PrintMotionErrors(const char* kind, const PairKey& key, const Isometry3& estimate, const Isometry3& truth) {
   const double angle = LogSO3(truth.linear()).norm(), angle_estimate = LogSO3(estimate.linear()).norm();
   const double length2 = truth.translation().squaredNorm();
   const double length_error = length2 > 0 ? estimate.translation().dot(truth.translation()) / length2 - 1.0 : 0.0;
-  std::printf("motion,%s,%d,%d,%.6f,%.6g,%.6f,%.6g\n", kind, key.first, key.second, angle * 180 / M_PI,
+  std::printf("motion,%s,%d,%d,%.6f,%.6g,%.6f,%.6g", kind, key.first, key.second, angle * 180 / M_PI,
               (angle_estimate - angle) * 180 / M_PI, std::sqrt(length2), length_error);
+  const Vector6d d = Difference(truth, estimate);
+  const Eigen::Vector3d w = LogSO3(truth.linear()), t = truth.translation();
+  for (int k = 0; k < 6; ++k) std::printf(",%.6g", d[k]);
+  std::printf(",%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", w.x(), w.y(), w.z(), t.x(), t.y(), t.z());
 }
 
 void PrintExtrinsic(const char* name, const Session& s, const HandEyeResult& r) {
@@ -225,6 +236,7 @@ int main(int argc, char** argv) {
     }
     const HandEyeResult both = Step(s, m, Side::kBoth);
     PrintExtrinsic("both", s, both);
+    PrintExtrinsic("shared", s, Step(s, m, Side::kBoth, true));
     PrintExtrinsic("camera", s, Step(s, m, Side::kCameraOnly));
     PrintExtrinsic("lidar", s, Step(s, m, Side::kLidarOnly));
     if (argc == 3 && both.usable()) PrintFeedback(s, both);
