@@ -102,9 +102,9 @@ struct HandEyeSettings {
 
   // Errors every motion of one sensor shares (handeye/shared_error.hpp): standard deviations of the
   // entries of one unknown linear map per sensor, added to the covariance of the scaled solve. The
-  // camera's translation part is the size fusion odometry's shared errors have in simulation
+  // camera's are the sizes fusion odometry's shared errors have in simulation
   // (docs/design.md, "Errors every motion shares"; config: handeye.shared_errors).
-  SharedErrors shared_camera_errors{0.0, 4e-4, 2e-4};
+  SharedErrors shared_camera_errors{1e-4, 4e-4, 2e-4};
   SharedErrors shared_lidar_errors;
 
   // --- Observability verdict ---

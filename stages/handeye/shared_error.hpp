@@ -21,7 +21,6 @@
 
 namespace fusecal::handeye {
 
-
 // C_shared for scaled pairs at (R, t), weighted as the final solve (`noise` for pairs without covariances).
 Matrix6 SharedErrorCovariance(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
                               const NoiseModel& noise, const SharedErrors& camera, const SharedErrors& lidar);
