@@ -17,14 +17,21 @@
 
 namespace fusecal {
 
-// Standard deviations of the entries of a linear map of a motion that all motions of one sensor share:
-// d_rot = G w, d_t = H t + K w (handeye/shared_error.hpp).
+// Standard deviations of the entries of a linear map of a motion that all motions of one sensor share,
+// d_rot = G w, d_t = (H + s I) t + K w (handeye/shared_error.hpp), and of its common length scale s.
 struct SharedErrors {
   double rotation_per_rotation = 0.0;        // G: rad per rad of the motion's rotation
   double translation_per_translation = 0.0;  // H: m per m of the motion's translation
   double translation_per_rotation_m = 0.0;   // K: m per rad of the motion's rotation
-  bool Any() const { return rotation_per_rotation > 0 || translation_per_translation > 0 || translation_per_rotation_m > 0; }
-  bool Valid() const { return rotation_per_rotation >= 0 && translation_per_translation >= 0 && translation_per_rotation_m >= 0; }
+  double translation_scale = 0.0;            // s: every translation long or short alike, d_t = s t (m/m)
+  bool Any() const {
+    return rotation_per_rotation > 0 || translation_per_translation > 0 || translation_per_rotation_m > 0 ||
+           translation_scale > 0;
+  }
+  bool Valid() const {
+    return rotation_per_rotation >= 0 && translation_per_translation >= 0 && translation_per_rotation_m >= 0 &&
+           translation_scale >= 0;
+  }
 };
 
 // One motion seen by both sensors.

@@ -1,6 +1,5 @@
 #include "handeye/shared_error.hpp"
 
-#include <Eigen/Cholesky>
 #include <Eigen/QR>
 #include <array>
 
@@ -30,15 +29,18 @@ struct Accumulated {
 
 struct SensorMaps {
   Accumulated G, H, K;
+  Vector6 scale = Vector6::Zero();  // sum_i J_x,i^T W_i J_t,i t_i: the common length scale's column
   void Add(const Eigen::Vector3d& w, const Eigen::Vector3d& tr, const Matrix6& JtW, const Matrix6& Jm) {
     const Matrix63 rot = JtW * Jm.leftCols<3>(), trans = JtW * Jm.rightCols<3>();
     G.Add(w, rot);
     H.Add(tr, trans);
     K.Add(w, trans);
+    scale += trans * tr;
   }
   Matrix6 Covariance(const Matrix6& H_pinv, const SharedErrors& e) const {
+    const Vector6 b = H_pinv * scale;
     return G.Covariance(H_pinv, e.rotation_per_rotation) + H.Covariance(H_pinv, e.translation_per_translation) +
-           K.Covariance(H_pinv, e.translation_per_rotation_m);
+           K.Covariance(H_pinv, e.translation_per_rotation_m) + e.translation_scale * e.translation_scale * b * b.transpose();
   }
 };
 
@@ -51,7 +53,8 @@ Matrix6 SharedErrorCovariance(const std::vector<MotionPair>& pairs, const Eigen:
   SensorMaps maps_a, maps_b;
   for (const auto& p : pairs) {
     const Matrix6 Jx = JacobianWrtExtrinsic(p, R);
-    const Matrix6 W = ResidualCovariance(p, R, t, noise).ldlt().solve(Matrix6::Identity());
+    const Matrix6 L = WhiteningMatrix(ResidualCovariance(p, R, t, noise));
+    const Matrix6 W = L.transpose() * L;
     const Matrix6 JtW = Jx.transpose() * W;
     information += JtW * Jx;
     maps_a.Add(LogSO3(p.A.linear()), p.A.translation(), JtW, JacobianWrtA(p, R, t));

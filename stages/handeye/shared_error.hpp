@@ -6,12 +6,14 @@
 //   d_rot_i = G w_i,   d_t_i = H t_i + K w_i      (w_i, t_i: motion i's rotation vector and translation,
 //                                                  d_*: MotionPair's perturbation model),
 // with independent zero-mean entries of G (rad/rad), H (m/m) and K (m/rad) of the given standard
-// deviations. Through the linearised least squares (hand-eye residuals of pair_model.hpp),
+// deviations, and a common length scale s (H + s I: every translation long or short alike, as a camera's
+// metric depth that errs by one factor makes them). Through the linearised least squares (hand-eye residuals of pair_model.hpp),
 //   d_x = -(sum J_x^T W J_x)^-1 sum J_x^T W J_m d_m_i,
 // their covariance over [d_rot ; t] is
 //   C_shared = sum over maps M and their 3 input components k of sigma_M^2 B_k B_k^T,
 //   B_k = (sum J_x^T W J_x)^-1 sum_i u_ik J_x,i^T W_i J_m,i^M      (u = w for G and K, t for H),
-// since E[d_i d_j^T] = sigma^2 (u_i . u_j) I for a map with independent entries.
+// since E[d_i d_j^T] = sigma^2 (u_i . u_j) I for a map with independent entries; the scale adds
+// sigma_s^2 b b^T, b = (sum J_x^T W J_x)^-1 sum_i J_x,i^T W_i J_t,i t_i.
 #pragma once
 
 #include <vector>

@@ -51,6 +51,7 @@ void ReadSharedErrors(ConfigReader r, SharedErrors* e) {
   r.Get("rotation_per_rotation", &e->rotation_per_rotation, ::fusecal::NonNegative<double>());
   r.Get("translation_per_translation", &e->translation_per_translation, ::fusecal::NonNegative<double>());
   r.Get("translation_per_rotation_m", &e->translation_per_rotation_m, ::fusecal::NonNegative<double>());
+  r.Get("translation_scale", &e->translation_scale, ::fusecal::NonNegative<double>());
   r.Finish();
 }
 }  // namespace

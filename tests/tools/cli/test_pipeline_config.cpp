@@ -72,6 +72,8 @@ TEST(PipelineConfig, OutOfRangeValuesNameTheKeyAndTheRange) {
       {"handeye", "max_angle_difference_deg: 0", &kHandEye, "'handeye.max_angle_difference_deg' must be > 0"},
       {"handeye", "shared_errors: {camera: {translation_per_translation: -1e-4}}", &kHandEye,
        "'handeye.shared_errors.camera.translation_per_translation' must not be negative"},
+      {"handeye", "shared_errors: {camera: {translation_scale: -5e-4}}", &kHandEye,
+       "'handeye.shared_errors.camera.translation_scale' must not be negative"},
       {"handeye", "shared_errors: {lidar: {range_scale: 1e-3}}", &kHandEye,
        "unknown key: 'handeye.shared_errors.lidar.range_scale'"},
       {"ros2_tf", "domain: 300", &kRos2Tf, "'ros2_tf.domain' must be in [0, 232]"},
