@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The table of tools/bench-error-budget: bench_error_budget's lines of many sessions, added up.
 
-  error_budget_summary.py CSV     (lines "seed,motion,...", "seed,extrinsic,...", "seed,feedback,...")
+  error_budget_summary.py CSV     (lines "seed,motion,...", "seed,extrinsic,...", "seed,final,...",
+                                   "seed,feedback,...")
 
 A mean far from zero in units of its standard error (|t| > 3) is a bias: the same error in every session,
 which no uncertainty computed from one session's residuals can see.
@@ -68,12 +69,29 @@ def print_shared_maps(vectors):
         print(f"| {kind} | " + " | ".join(cell) + " |")
 
 
+def print_errors_by_axis(vectors):
+    """Rotation errors of the motions grouped by the axis they mostly turn about (the sensor's own frame)."""
+    print("\nRotation errors by the axis a motion mostly turns about: rms of d_rot (urad) about x, y, z\n")
+    print("| motions | turning about | count | mean angle (deg) | x | y | z |")
+    print("|---|---|---|---|---|---|---|")
+    for kind, rows in vectors.items():
+        groups = {}
+        for r in rows:
+            w = r[6:9]
+            groups.setdefault(max(range(3), key=lambda k: abs(w[k])), []).append(r)
+        for axis, group in sorted(groups.items()):
+            angle = sum(math.sqrt(sum(v * v for v in r[6:9])) for r in group) / len(group) * 180 / math.pi
+            cells = " | ".join(f"{1e6 * rms([r[c] for r in group]):.0f}" for c in range(3))
+            print(f"| {kind} | {'xyz'[axis]} | {len(group)} | {angle:.1f} | {cells} |")
+
+
 def main(path):
     motions = {"camera": [], "lidar": []}
     extrinsic = {"both": [], "camera": [], "lidar": []}
     shared = []  # the solve from both sensors, error / std with the shared errors in the std
     errors = {}  # seed -> case -> (6 errors, 6 std)
     feedback = []
+    final = {}  # model -> per session, |error| / std of the pipeline's last result per axis
     vectors = {}  # kind -> [d_rot, d_t, w, t] per motion
     for line in open(path).read().splitlines():
         f = line.split(",")
@@ -88,14 +106,17 @@ def main(path):
             errors.setdefault(f[0], {})[f[2]] = (v[:6], v[6:])
         elif f[1] == "feedback":
             feedback.append(float(f[2]))
+        elif f[1] == "final":
+            v = [float(x) for x in f[3:15]]
+            final.setdefault(f[2], []).append([abs(v[k]) / v[k + 6] if v[k + 6] > 0 else math.inf for k in range(6)])
     # In units of the std the user gets (both sensors' solve), so that the rows add up.
     for cases in errors.values():
         if "both" not in cases:
             continue
         std = cases["both"][1]
-        for case, (error, _) in cases.items():
+        for case, (error, own_std) in cases.items():
             if case == "shared":
-                shared.append([error[k] / cases[case][1][k] for k in range(6)])
+                shared.append([error[k] / own_std[k] for k in range(6)])
             else:
                 extrinsic[case].append([error[k] / std[k] for k in range(6)])
     sessions = len(extrinsic["both"])
@@ -110,6 +131,7 @@ def main(path):
         length, t_length = mean_t([r[1] * 100 for r in rows])
         print(f"| {kind} | {len(rows)} | {angle:+.2f} | {t_angle:+.1f} | {length:+.3f} | {t_length:+.1f} |")
     print_shared_maps(vectors)
+    print_errors_by_axis(vectors)
     print("\nError of one scaled solve at the truth over the std of the solve from both sensors: mean (t), rms\n")
     print("| motions from | rot x | rot y | rot z | t x | t y | t z |")
     print("|---|---|---|---|---|---|---|")
@@ -129,6 +151,14 @@ def main(path):
             within = [100.0 * sum(abs(r[k]) <= 1.0 for r in rows) / len(rows) for k in range(6)]
             print(f"\nWithin one std ({title}): " + ", ".join(
                 f"{name} {w:.0f} %" for name, w in zip(["rot x", "rot y", "rot z", "t x", "t y", "t z"], within)))
+    if final:
+        print("\nThe pipeline's last results within one std (logged: as reported; other models: the camera's shared")
+        print("errors of --model, each axis's std scaled by that model's over the pipeline's own, at the final pairs)\n")
+        print("| model | sessions | rot x | rot y | rot z | t x | t y | t z |")
+        print("|---|---|---|---|---|---|---|---|")
+        for model, rows in final.items():
+            within = [100.0 * sum(r[k] <= 1.0 for r in rows) / len(rows) for k in range(6)]
+            print(f"| {model} | {len(rows)} | " + " | ".join(f"{w:.0f} %" for w in within) + " |")
     if feedback:
         feedback.sort()
         print(f"\nFeedback of the alternation, largest |eigenvalue| of J: median {feedback[len(feedback) // 2]:.3f}, "

@@ -17,7 +17,9 @@
 //     (std from the residuals alone; "shared": the solve from both with the default shared errors added)
 //   feedback,<|eigenvalue| of J, 6, largest first>
 // d = estimate - truth, R = R_true Exp(d_rot), t = t_true + d_t (docs/design.md section 2).
-// Usage: bench_error_budget SESSION.lcmlog [--feedback]
+//   final,logged,<the same 12>: the pipeline's last result; final,<model>: its std with other sizes of the
+//     camera's shared errors (--calibrated-with: the sizes the session used; default: the shipped ones)
+// Usage: bench_error_budget SESSION.lcmlog [--feedback] [--model NAME=G,H,K,S ...] [--calibrated-with G,H,K,S]
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -26,6 +28,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -61,6 +64,9 @@ struct Session {
   std::optional<ground_truth_t> truth;
   Isometry3 X_true = Isometry3::Identity();
   std::vector<PairKey> used;  // by the last EXTRINSIC
+  Isometry3 X_final = Isometry3::Identity();
+  Eigen::Matrix<double, 6, 6> covariance_final = Eigen::Matrix<double, 6, 6>::Zero();
+  int status_final = -1;
 };
 
 template <class M>
@@ -95,6 +101,9 @@ Session ReadSession(const std::string& path) {
   if (!s.truth) throw LogError(path + ": no GROUND_TRUTH (a session of `fusecal calibrate` on a simulated log?)");
   if (!last) throw LogError(path + ": no EXTRINSIC");
   for (int k = 0; k < last->num_used; ++k) s.used.push_back({last->used_station_i[k], last->used_station_j[k]});
+  s.X_final = FromRowMajor(last->T_camera_lidar);
+  for (int k = 0; k < 36; ++k) s.covariance_final(k / 6, k % 6) = last->covariance[k];
+  s.status_final = last->status;
   return s;
 }
 
@@ -154,9 +163,10 @@ Motions Fuse(const Session& s, const Isometry3& X) {
 
 enum class Side { kBoth, kCameraOnly, kLidarOnly };
 
-// One scaled solve; its covariance from the residuals alone unless `with_shared_errors` (the defaults'
-// shared errors of handeye/shared_error.hpp added, as the pipeline reports).
-HandEyeResult Step(const Session& s, const Motions& m, Side side, bool with_shared_errors = false) {
+// One scaled solve from X_true; its covariance from the residuals alone unless `camera_shared` is given
+// (the camera's shared errors added as handeye/shared_error.hpp does).
+HandEyeResult Step(const Session& s, const Motions& m, Side side, const SharedErrors* camera_shared = nullptr,
+                   const Isometry3* initial = nullptr) {
   std::vector<MotionPair> pairs;
   for (size_t k = 0; k < m.keys.size(); ++k) {
     MotionPair p;
@@ -167,8 +177,9 @@ HandEyeResult Step(const Session& s, const Motions& m, Side side, bool with_shar
     pairs.push_back(p);
   }
   HandEyeSettings settings;
-  if (!with_shared_errors) settings.shared_camera_errors = settings.shared_lidar_errors = SharedErrors{};
-  return SolveScaled(pairs, settings, &s.X_true);
+  settings.shared_lidar_errors = SharedErrors{};
+  settings.shared_camera_errors = camera_shared ? *camera_shared : SharedErrors{};
+  return SolveScaled(pairs, settings, initial ? initial : &s.X_true);
 }
 
 void PrintMotionErrors(const char* kind, const PairKey& key, const Isometry3& estimate, const Isometry3& truth) {
@@ -183,16 +194,58 @@ void PrintMotionErrors(const char* kind, const PairKey& key, const Isometry3& es
   std::printf(",%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", w.x(), w.y(), w.z(), t.x(), t.y(), t.z());
 }
 
+void PrintErrorAndStd(const char* kind, const std::string& name, const Vector6d& d,
+                      const Eigen::Matrix<double, 6, 6>& covariance) {
+  std::printf("%s,%s", kind, name.c_str());
+  for (int k = 0; k < 6; ++k) std::printf(",%.6g", d[k]);
+  for (int k = 0; k < 6; ++k) std::printf(",%.6g", std::sqrt(std::max(covariance(k, k), 0.0)));
+  std::printf("\n");
+}
+
 void PrintExtrinsic(const char* name, const Session& s, const HandEyeResult& r) {
   if (!r.usable()) {
     std::fprintf(stderr, "%s: solve failed: %s\n", name, r.message.c_str());
     return;
   }
-  const Vector6d d = Difference(s.X_true, r.T_camera_lidar);
-  std::printf("extrinsic,%s", name);
-  for (int k = 0; k < 6; ++k) std::printf(",%.6g", d[k]);
-  for (int k = 0; k < 6; ++k) std::printf(",%.6g", std::sqrt(std::max(r.covariance(k, k), 0.0)));
-  std::printf("\n");
+  PrintErrorAndStd("extrinsic", name, Difference(s.X_true, r.T_camera_lidar), r.covariance);
+}
+
+// The pipeline's final result as logged, and its std under other sizes of the camera's shared errors: the
+// camera motions fused at the final estimate, solved once per model; the logged std scaled per axis by the
+// ratio of that model's std to the std of the sizes the session was calibrated with (`own`; the shared
+// errors change the covariance, not the estimate). `final,<name>` lines carry the logged error.
+void PrintFinal(const Session& s, const SharedErrors& own,
+                const std::vector<std::pair<std::string, SharedErrors>>& models) {
+  const Vector6d error = Difference(s.X_true, s.X_final);
+  PrintErrorAndStd("final", "logged", error, s.covariance_final);
+  if (models.empty()) return;
+  const Motions m = Fuse(s, s.X_final);
+  const HandEyeResult reference = Step(s, m, Side::kBoth, &own, &s.X_final);
+  if (!reference.usable()) return;
+  for (const auto& [name, shared] : models) {
+    const HandEyeResult r = Step(s, m, Side::kBoth, &shared, &s.X_final);
+    if (!r.usable()) continue;
+    Eigen::Matrix<double, 6, 6> scaled = s.covariance_final;
+    for (int k = 0; k < 6; ++k) scaled(k, k) *= r.covariance(k, k) / reference.covariance(k, k);
+    PrintErrorAndStd("final", name, error, scaled);
+  }
+}
+
+// G,H,K,S: sizes of the camera's shared errors (handeye/shared_error.hpp).
+SharedErrors ParseSizes(const std::string& option, const std::string& text) {
+  SharedErrors e;
+  if (std::sscanf(text.c_str(), "%lf,%lf,%lf,%lf", &e.rotation_per_rotation, &e.translation_per_translation,
+                  &e.translation_per_rotation_m, &e.translation_scale) != 4 ||
+      !e.Valid())
+    throw std::invalid_argument(option + " " + text + ": expected G,H,K,S (four numbers >= 0)");
+  return e;
+}
+
+// NAME=G,H,K,S: sizes under a name.
+std::pair<std::string, SharedErrors> ParseModel(const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos) throw std::invalid_argument("--model " + text + ": expected NAME=G,H,K,S");
+  return {text.substr(0, eq), ParseSizes("--model", text.substr(eq + 1))};
 }
 
 // J = d Difference(X_true, Step(Fuse(X))) / d X at the truth, one column per perturbed axis.
@@ -219,12 +272,31 @@ void PrintFeedback(const Session& s, const HandEyeResult& at_truth) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2 || (argc == 3 && std::strcmp(argv[2], "--feedback")) || argc > 3) {
-    std::fprintf(stderr, "usage: bench_error_budget SESSION.lcmlog [--feedback]\n");
+  bool feedback = false;
+  std::vector<std::pair<std::string, SharedErrors>> models;
+  SharedErrors own = HandEyeSettings{}.shared_camera_errors;
+  try {
+    for (int k = 2; k < argc; ++k) {
+      if (!std::strcmp(argv[k], "--feedback"))
+        feedback = true;
+      else if (!std::strcmp(argv[k], "--model") && k + 1 < argc)
+        models.push_back(ParseModel(argv[++k]));
+      else if (!std::strcmp(argv[k], "--calibrated-with") && k + 1 < argc)
+        own = ParseSizes("--calibrated-with", argv[++k]);
+      else
+        throw std::invalid_argument(std::string("unknown argument ") + argv[k]);
+    }
+    if (argc < 2) throw std::invalid_argument("no session log");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr,
+                 "%s\nusage: bench_error_budget SESSION.lcmlog [--feedback] [--model NAME=G,H,K,S ...] "
+                 "[--calibrated-with G,H,K,S]\n",
+                 e.what());
     return 2;
   }
   try {
     const Session s = ReadSession(argv[1]);
+    PrintFinal(s, own, models);
     const Motions m = Fuse(s, s.X_true);
     if (m.keys.size() < 3) {
       std::fprintf(stderr, "%s: %zu usable pairs at the truth, too few\n", argv[1], m.keys.size());
@@ -236,10 +308,11 @@ int main(int argc, char** argv) {
     }
     const HandEyeResult both = Step(s, m, Side::kBoth);
     PrintExtrinsic("both", s, both);
-    PrintExtrinsic("shared", s, Step(s, m, Side::kBoth, true));
+    const SharedErrors shipped = HandEyeSettings{}.shared_camera_errors;
+    PrintExtrinsic("shared", s, Step(s, m, Side::kBoth, &shipped));
     PrintExtrinsic("camera", s, Step(s, m, Side::kCameraOnly));
     PrintExtrinsic("lidar", s, Step(s, m, Side::kLidarOnly));
-    if (argc == 3 && both.usable()) PrintFeedback(s, both);
+    if (feedback && both.usable()) PrintFeedback(s, both);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;
