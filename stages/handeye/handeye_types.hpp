@@ -108,10 +108,10 @@ struct HandEyeSettings {
   bool estimate_noise_from_residuals = true;
 
   // Errors every motion of one sensor shares (handeye/shared_error.hpp): standard deviations of the
-  // entries of one unknown linear map per sensor, added to the covariance of the scaled solve. The
-  // camera's are the sizes fusion odometry's shared errors have in simulation
+  // entries of one unknown linear map per sensor and of its common length scale, added to the covariance
+  // of the scaled solve. The camera's are the sizes fusion odometry's shared errors have in simulation
   // (docs/design.md, "Errors every motion shares"; config: handeye.shared_errors).
-  SharedErrors shared_camera_errors{1e-4, 4e-4, 2e-4};
+  SharedErrors shared_camera_errors{1e-4, 2e-4, 0.0, 5e-4};
   SharedErrors shared_lidar_errors;
 
   // --- Observability verdict ---
