@@ -40,7 +40,8 @@ struct SensorMaps {
   Matrix6 Covariance(const Matrix6& H_pinv, const SharedErrors& e) const {
     const Vector6 b = H_pinv * scale;
     return G.Covariance(H_pinv, e.rotation_per_rotation) + H.Covariance(H_pinv, e.translation_per_translation) +
-           K.Covariance(H_pinv, e.translation_per_rotation_m) + e.translation_scale * e.translation_scale * b * b.transpose();
+           K.Covariance(H_pinv, e.translation_per_rotation_m) +
+           e.translation_scale * e.translation_scale * b * b.transpose();
   }
 };
 

@@ -7,7 +7,8 @@
 //                                                  d_*: MotionPair's perturbation model),
 // with independent zero-mean entries of G (rad/rad), H (m/m) and K (m/rad) of the given standard
 // deviations, and a common length scale s (H + s I: every translation long or short alike, as a camera's
-// metric depth that errs by one factor makes them). Through the linearised least squares (hand-eye residuals of pair_model.hpp),
+// metric depth that errs by one factor makes them). Through the linearised least squares (hand-eye
+// residuals of pair_model.hpp),
 //   d_x = -(sum J_x^T W J_x)^-1 sum J_x^T W J_m d_m_i,
 // their covariance over [d_rot ; t] is
 //   C_shared = sum over maps M and their 3 input components k of sigma_M^2 B_k B_k^T,

@@ -65,8 +65,7 @@ struct Session {
   Isometry3 X_true = Isometry3::Identity();
   std::vector<PairKey> used;  // by the last EXTRINSIC
   Isometry3 X_final = Isometry3::Identity();
-  Eigen::Matrix<double, 6, 6> covariance_final = Eigen::Matrix<double, 6, 6>::Zero();
-  int status_final = -1;
+  Matrix6 covariance_final = Matrix6::Zero();
 };
 
 template <class M>
@@ -102,8 +101,7 @@ Session ReadSession(const std::string& path) {
   if (!last) throw LogError(path + ": no EXTRINSIC");
   for (int k = 0; k < last->num_used; ++k) s.used.push_back({last->used_station_i[k], last->used_station_j[k]});
   s.X_final = FromRowMajor(last->T_camera_lidar);
-  for (int k = 0; k < 36; ++k) s.covariance_final(k / 6, k % 6) = last->covariance[k];
-  s.status_final = last->status;
+  s.covariance_final = Matrix6FromArray(last->covariance);
   return s;
 }
 
@@ -163,7 +161,7 @@ Motions Fuse(const Session& s, const Isometry3& X) {
 
 enum class Side { kBoth, kCameraOnly, kLidarOnly };
 
-// One scaled solve from X_true; its covariance from the residuals alone unless `camera_shared` is given
+// One scaled solve from `initial` (X_true when not given); its covariance from the residuals alone unless `camera_shared` is given
 // (the camera's shared errors added as handeye/shared_error.hpp does).
 HandEyeResult Step(const Session& s, const Motions& m, Side side, const SharedErrors* camera_shared = nullptr,
                    const Isometry3* initial = nullptr) {
@@ -195,7 +193,7 @@ void PrintMotionErrors(const char* kind, const PairKey& key, const Isometry3& es
 }
 
 void PrintErrorAndStd(const char* kind, const std::string& name, const Vector6d& d,
-                      const Eigen::Matrix<double, 6, 6>& covariance) {
+                      const Matrix6& covariance) {
   std::printf("%s,%s", kind, name.c_str());
   for (int k = 0; k < 6; ++k) std::printf(",%.6g", d[k]);
   for (int k = 0; k < 6; ++k) std::printf(",%.6g", std::sqrt(std::max(covariance(k, k), 0.0)));
@@ -225,7 +223,7 @@ void PrintFinal(const Session& s, const SharedErrors& own,
   for (const auto& [name, shared] : models) {
     const HandEyeResult r = Step(s, m, Side::kBoth, &shared, &s.X_final);
     if (!r.usable()) continue;
-    Eigen::Matrix<double, 6, 6> scaled = s.covariance_final;
+    Matrix6 scaled = s.covariance_final;
     for (int k = 0; k < 6; ++k) scaled(k, k) *= r.covariance(k, k) / reference.covariance(k, k);
     PrintErrorAndStd("final", name, error, scaled);
   }
