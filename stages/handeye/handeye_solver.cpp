@@ -10,6 +10,7 @@
 #include "handeye/outlier_rejection.hpp"
 #include "handeye/pair_model.hpp"
 #include "handeye/refinement.hpp"
+#include "handeye/rotation_noise.hpp"
 #include "handeye/rotation_solver.hpp"
 #include "handeye/screening.hpp"
 #include "handeye/serial_correlation.hpp"
@@ -138,9 +139,10 @@ Eigen::Matrix3d InitialRotation(const std::vector<MotionPair>& pairs, const Hand
 
 // Variance component estimation: the per-axis noise (both sensors alike) that explains the residuals of the
 // pairs without covariances. E|r_rot|^2 = 6 sigma_r^2; E|r_t|^2 = 2 sigma_r^2 |t|^2 + 6 sigma_t^2 (scaled),
-// corrected by n / (n - 1) for the 3 (+3) estimated parameters.
+// corrected by n / (n - 1) for the 3 (+3) estimated parameters. With `by_axis`, the rotation's weights and
+// covariance also take its noise by direction (rotation_noise.hpp); sigma_r stays the pooled one.
 NoiseModel EstimateNoise(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
-                         const NoiseModel& prior, bool scaled) {
+                         const NoiseModel& prior, bool scaled, bool by_axis) {
   double sum_rot = 0.0, sum_trans = 0.0;
   int n = 0;
   for (const auto& p : pairs) {
@@ -157,6 +159,7 @@ NoiseModel EstimateNoise(const std::vector<MotionPair>& pairs, const Eigen::Matr
     const double var_trans = (sum_trans / (n - 1) - 2.0 * var_rot * t.squaredNorm()) / 6.0;
     out.trans_sigma_m = std::sqrt(std::max(var_trans, std::pow(1e-6 * prior.trans_sigma_m, 2)));
   }
+  if (by_axis) out.rotation_by_axis = EstimateRotationNoiseByAxis(pairs, R, std::pow(1e-6 * prior.rot_sigma_rad, 2));
   return out;
 }
 
@@ -275,7 +278,7 @@ HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEy
   const bool given_cov = AllHaveCovariances(w.pairs);
   NoiseModel noise = nominal;
   for (int round = 0; round < 2; ++round) {
-    if (!given_cov && s.estimate_noise_from_residuals) noise = EstimateNoise(w.pairs, est.R, est.t, nominal, true);
+    if (!given_cov && s.estimate_noise_from_residuals) noise = EstimateNoise(w.pairs, est.R, est.t, nominal, true, s.rotation_noise_by_axis);
     est = RefinePose(w.pairs, est.R, est.t, noise, false, s);
     r.iterations += est.iterations;
   }
@@ -374,7 +377,7 @@ HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const Han
 
   const bool given_cov = AllHaveCovariances(w.pairs);
   NoiseModel noise = nominal;
-  if (!given_cov && s.estimate_noise_from_residuals) noise = EstimateNoise(w.pairs, est.R, est.t, nominal, false);
+  if (!given_cov && s.estimate_noise_from_residuals) noise = EstimateNoise(w.pairs, est.R, est.t, nominal, false, s.rotation_noise_by_axis);
   est = RefineRotation(w.pairs, est.R, noise, false, s);
   r.iterations += est.iterations;
   lt = SolveTranslation(w.pairs, est.R, true, prior);

@@ -106,6 +106,10 @@ struct HandEyeSettings {
   double nominal_rotation_sigma_deg = 0.1;
   double nominal_translation_sigma_m = 0.01;
   bool estimate_noise_from_residuals = true;
+  // With it, the re-estimated rotation noise also differs by direction: per class of motion across its
+  // axis, and along it (handeye/rotation_noise.hpp). Weights and covariance use it; the verdict keeps the
+  // pooled sigma. Off: on the simulated scenarios it does not yet bring every axis's coverage into band.
+  bool rotation_noise_by_axis = false;
 
   // Errors every motion of one sensor shares (handeye/shared_error.hpp): standard deviations of the
   // entries of one unknown linear map per sensor and of its common length scale, added to the covariance

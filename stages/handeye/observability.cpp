@@ -137,7 +137,10 @@ ObservabilityReport AnalyzeScaleless(const std::vector<MotionPair>& pairs, const
 }
 
 NoiseModel VerdictNoise(const NoiseModel& nominal, const NoiseModel& estimated) {
-  return {std::max(nominal.rot_sigma_rad, estimated.rot_sigma_rad), std::max(nominal.trans_sigma_m, estimated.trans_sigma_m)};
+  NoiseModel n;  // isotropic: the verdict keeps the pooled sigma
+  n.rot_sigma_rad = std::max(nominal.rot_sigma_rad, estimated.rot_sigma_rad);
+  n.trans_sigma_m = std::max(nominal.trans_sigma_m, estimated.trans_sigma_m);
+  return n;
 }
 
 double WeakestRotationFromAxes(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,

@@ -7,7 +7,10 @@
 namespace fusecal::handeye {
 
 NoiseModel NominalNoise(const HandEyeSettings& settings) {
-  return {settings.nominal_rotation_sigma_deg * M_PI / 180.0, settings.nominal_translation_sigma_m};
+  NoiseModel n;
+  n.rot_sigma_rad = settings.nominal_rotation_sigma_deg * M_PI / 180.0;
+  n.trans_sigma_m = settings.nominal_translation_sigma_m;
+  return n;
 }
 
 namespace {
@@ -20,11 +23,20 @@ Matrix6 IsotropicCovariance(const NoiseModel& noise) {
 }  // namespace
 
 Matrix6 CameraCovariance(const MotionPair& pair, const NoiseModel& noise) {
-  return pair.cov_A ? *pair.cov_A : IsotropicCovariance(noise);
+  if (pair.cov_A) return *pair.cov_A;
+  Matrix6 C = IsotropicCovariance(noise);
+  if (const auto& by_axis = noise.rotation_by_axis) {
+    const Eigen::Matrix3d& R = by_axis->R_camera_lidar;
+    C.topLeftCorner<3, 3>() = 0.5 * R * RotationResidualCovariance(pair, *by_axis) * R.transpose();
+  }
+  return C;
 }
 
 Matrix6 LidarCovariance(const MotionPair& pair, const NoiseModel& noise) {
-  return pair.cov_B ? *pair.cov_B : IsotropicCovariance(noise);
+  if (pair.cov_B) return *pair.cov_B;
+  Matrix6 C = IsotropicCovariance(noise);
+  if (noise.rotation_by_axis) C.topLeftCorner<3, 3>() = 0.5 * RotationResidualCovariance(pair, *noise.rotation_by_axis);
+  return C;
 }
 
 bool AllHaveCovariances(const std::vector<MotionPair>& pairs) {

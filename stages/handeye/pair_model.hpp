@@ -6,23 +6,28 @@
 // with s = 1 for scaled camera motions.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "handeye/handeye_types.hpp"
+#include "handeye/rotation_noise.hpp"
 
 namespace fusecal::handeye {
 
-// Isotropic noise per sensor motion and axis, used where a pair carries no covariance.
+// Noise per sensor motion, used where a pair carries no covariance: isotropic per axis, or for the rotation
+// by direction where the residuals showed it (rotation_noise.hpp; both sensors share it half and half).
 struct NoiseModel {
   double rot_sigma_rad = 0.0;
   double trans_sigma_m = 0.0;
+  std::optional<RotationNoiseByAxis> rotation_by_axis;
 };
 
 NoiseModel NominalNoise(const HandEyeSettings& settings);
 
-// cov_A / cov_B when present, otherwise diag(sigma_rot^2 I, sigma_trans^2 I).
+// cov_A / cov_B when present, otherwise diag(sigma_rot^2 I, sigma_trans^2 I), the rotation block replaced by
+// half of rotation_by_axis's residual covariance (in the camera's frame for the camera) when that is set.
 Matrix6 CameraCovariance(const MotionPair& pair, const NoiseModel& noise);
 Matrix6 LidarCovariance(const MotionPair& pair, const NoiseModel& noise);
 bool AllHaveCovariances(const std::vector<MotionPair>& pairs);

@@ -19,7 +19,8 @@
 // d = estimate - truth, R = R_true Exp(d_rot), t = t_true + d_t (docs/design.md section 2).
 //   final,logged,<the same 12>: the pipeline's last result; final,<model>: its std with other sizes of the
 //     camera's shared errors (--calibrated-with: the sizes the session used; default: the shipped ones)
-// Usage: bench_error_budget SESSION.lcmlog [--feedback] [--model NAME=G,H,K,S ...] [--calibrated-with G,H,K,S]
+//   with --resolve, final,resolved / final,resolved-by-class: the final pairs solved again (PrintResolved)
+// Usage: bench_error_budget SESSION.lcmlog [--feedback] [--resolve] [--model NAME=G,H,K,S ...] [--calibrated-with G,H,K,S]
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -164,7 +165,7 @@ enum class Side { kBoth, kCameraOnly, kLidarOnly };
 // One scaled solve from `initial` (X_true when not given); its covariance from the residuals alone unless `camera_shared` is given
 // (the camera's shared errors added as handeye/shared_error.hpp does).
 HandEyeResult Step(const Session& s, const Motions& m, Side side, const SharedErrors* camera_shared = nullptr,
-                   const Isometry3* initial = nullptr) {
+                   const Isometry3* initial = nullptr, bool rotation_noise_by_axis = false) {
   std::vector<MotionPair> pairs;
   for (size_t k = 0; k < m.keys.size(); ++k) {
     MotionPair p;
@@ -177,6 +178,7 @@ HandEyeResult Step(const Session& s, const Motions& m, Side side, const SharedEr
   HandEyeSettings settings;
   settings.shared_lidar_errors = SharedErrors{};
   settings.shared_camera_errors = camera_shared ? *camera_shared : SharedErrors{};
+  settings.rotation_noise_by_axis = rotation_noise_by_axis;
   return SolveScaled(pairs, settings, initial ? initial : &s.X_true);
 }
 
@@ -229,6 +231,20 @@ void PrintFinal(const Session& s, const SharedErrors& own,
   }
 }
 
+// The final pairs solved once more from the final estimate (the alternation's fixed point) with the shipped
+// settings, and with the rotation noise by class of motion (handeye/rotation_noise.hpp): `final,resolved`
+// and `final,resolved-by-class` carry their own error.
+void PrintResolved(const Session& s) {
+  const Motions m = Fuse(s, s.X_final);
+  const SharedErrors shipped = HandEyeSettings{}.shared_camera_errors;
+  for (const bool by_axis : {false, true}) {
+    const HandEyeResult r = Step(s, m, Side::kBoth, &shipped, &s.X_final, by_axis);
+    if (r.usable())
+      PrintErrorAndStd("final", by_axis ? "resolved-by-class" : "resolved", Difference(s.X_true, r.T_camera_lidar),
+                       r.covariance);
+  }
+}
+
 // G,H,K,S: sizes of the camera's shared errors (handeye/shared_error.hpp).
 SharedErrors ParseSizes(const std::string& option, const std::string& text) {
   SharedErrors e;
@@ -270,13 +286,15 @@ void PrintFeedback(const Session& s, const HandEyeResult& at_truth) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool feedback = false;
+  bool feedback = false, resolve = false;
   std::vector<std::pair<std::string, SharedErrors>> models;
   SharedErrors own = HandEyeSettings{}.shared_camera_errors;
   try {
     for (int k = 2; k < argc; ++k) {
       if (!std::strcmp(argv[k], "--feedback"))
         feedback = true;
+      else if (!std::strcmp(argv[k], "--resolve"))
+        resolve = true;
       else if (!std::strcmp(argv[k], "--model") && k + 1 < argc)
         models.push_back(ParseModel(argv[++k]));
       else if (!std::strcmp(argv[k], "--calibrated-with") && k + 1 < argc)
@@ -287,7 +305,7 @@ int main(int argc, char** argv) {
     if (argc < 2) throw std::invalid_argument("no session log");
   } catch (const std::exception& e) {
     std::fprintf(stderr,
-                 "%s\nusage: bench_error_budget SESSION.lcmlog [--feedback] [--model NAME=G,H,K,S ...] "
+                 "%s\nusage: bench_error_budget SESSION.lcmlog [--feedback] [--resolve] [--model NAME=G,H,K,S ...] "
                  "[--calibrated-with G,H,K,S]\n",
                  e.what());
     return 2;
@@ -295,6 +313,7 @@ int main(int argc, char** argv) {
   try {
     const Session s = ReadSession(argv[1]);
     PrintFinal(s, own, models);
+    if (resolve) PrintResolved(s);
     const Motions m = Fuse(s, s.X_true);
     if (m.keys.size() < 3) {
       std::fprintf(stderr, "%s: %zu usable pairs at the truth, too few\n", argv[1], m.keys.size());
