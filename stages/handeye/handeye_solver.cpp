@@ -278,7 +278,8 @@ HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEy
   const bool given_cov = AllHaveCovariances(w.pairs);
   NoiseModel noise = nominal;
   for (int round = 0; round < 2; ++round) {
-    if (!given_cov && s.estimate_noise_from_residuals) noise = EstimateNoise(w.pairs, est.R, est.t, nominal, true, s.rotation_noise_by_axis);
+    if (!given_cov && s.estimate_noise_from_residuals)
+      noise = EstimateNoise(w.pairs, est.R, est.t, nominal, true, s.rotation_noise_by_axis);
     est = RefinePose(w.pairs, est.R, est.t, noise, false, s);
     r.iterations += est.iterations;
   }
@@ -377,7 +378,8 @@ HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const Han
 
   const bool given_cov = AllHaveCovariances(w.pairs);
   NoiseModel noise = nominal;
-  if (!given_cov && s.estimate_noise_from_residuals) noise = EstimateNoise(w.pairs, est.R, est.t, nominal, false, s.rotation_noise_by_axis);
+  if (!given_cov && s.estimate_noise_from_residuals)
+    noise = EstimateNoise(w.pairs, est.R, est.t, nominal, false, s.rotation_noise_by_axis);
   est = RefineRotation(w.pairs, est.R, noise, false, s);
   r.iterations += est.iterations;
   lt = SolveTranslation(w.pairs, est.R, true, prior);

@@ -2,9 +2,8 @@
 
 #include <algorithm>
 
-#include <Eigen/Eigenvalues>
-
 #include "handeye/pair_model.hpp"
+#include "handeye/translation_solver.hpp"
 
 namespace fusecal::handeye {
 namespace {
@@ -47,7 +46,7 @@ std::optional<RotationNoiseByAxis> EstimateRotationNoiseByAxis(const std::vector
     const auto k = MotionAxis(p);
     if (!k) continue;
     // d r / d delta at R Exp(delta): I - R_b^T (paper Eq. (2)); its null space is the motion's axis.
-    const Eigen::Matrix3d J = Eigen::Matrix3d::Identity() - p.B.linear().transpose();
+    const Eigen::Matrix3d J = JacobianWrtExtrinsic(p, R).topLeftCorner<3, 3>();
     used.push_back({*k, RotationResidual(p, R), J});
     normal += J.transpose() * J;
   }
@@ -55,12 +54,7 @@ std::optional<RotationNoiseByAxis> EstimateRotationNoiseByAxis(const std::vector
   // The fit of R absorbs part of each residual: E[r r^T] = (I - H_ii) Sigma with the hat block
   // H_ii = J_i (sum J^T J)^+ J_i^T. A component's weight is its 1 - leverage, so a motion that alone fixes a
   // direction of R (leverage 1) says nothing of the noise there.
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(normal);
-  const Eigen::Vector3d& lambda = eig.eigenvalues();
-  Eigen::Vector3d inverse_lambda = Eigen::Vector3d::Zero();
-  for (int i = 0; i < 3; ++i)
-    if (lambda[i] > 1e-9 * lambda.maxCoeff()) inverse_lambda[i] = 1.0 / lambda[i];
-  const Eigen::Matrix3d normal_pinv = eig.eigenvectors() * inverse_lambda.asDiagonal() * eig.eigenvectors().transpose();
+  const Eigen::Matrix3d normal_pinv = SymmetricPseudoInverse(normal, 1e-9, nullptr);
 
   Eigen::Matrix3d sum_across = Eigen::Matrix3d::Zero(), weight_across = Eigen::Matrix3d::Zero();
   double sum_axial = 0.0;

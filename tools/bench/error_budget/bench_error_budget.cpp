@@ -20,7 +20,8 @@
 //   final,logged,<the same 12>: the pipeline's last result; final,<model>: its std with other sizes of the
 //     camera's shared errors (--calibrated-with: the sizes the session used; default: the shipped ones)
 //   with --resolve, final,resolved / final,resolved-by-class: the final pairs solved again (PrintResolved)
-// Usage: bench_error_budget SESSION.lcmlog [--feedback] [--resolve] [--model NAME=G,H,K,S ...] [--calibrated-with G,H,K,S]
+// Usage: bench_error_budget SESSION.lcmlog [--feedback] [--resolve] [--model NAME=G,H,K,S ...]
+//          [--calibrated-with G,H,K,S]
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
