@@ -159,6 +159,12 @@ def main(path):
         for model, rows in final.items():
             within = [100.0 * sum(r[k] <= 1.0 for r in rows) / len(rows) for k in range(6)]
             print(f"| {model} | {len(rows)} | " + " | ".join(f"{w:.0f} %" for w in within) + " |")
+        print("\nThe same results' rms of error / std per axis (1 for an honest std; above 1: the std too small)\n")
+        print("| model | sessions | rot x | rot y | rot z | t x | t y | t z |")
+        print("|---|---|---|---|---|---|---|---|")
+        for model, rows in final.items():
+            ratios = [math.sqrt(sum(r[k] ** 2 for r in rows) / len(rows)) for k in range(6)]
+            print(f"| {model} | {len(rows)} | " + " | ".join(f"{q:.2f}" for q in ratios) + " |")
     if feedback:
         feedback.sort()
         print(f"\nFeedback of the alternation, largest |eigenvalue| of J: median {feedback[len(feedback) // 2]:.3f}, "
