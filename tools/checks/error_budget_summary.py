@@ -143,8 +143,7 @@ def main(path):
         for k in range(6):
             column = [r[k] for r in rows]
             mean, t = mean_t(column)
-            rms = math.sqrt(sum(v * v for v in column) / len(column))
-            cells.append(f"{mean:+.2f} ({t:+.1f}), {rms:.2f}")
+            cells.append(f"{mean:+.2f} ({t:+.1f}), {rms(column):.2f}")
         print(f"| {label[case]} | " + " | ".join(cells) + " |")
     for title, rows in (("std from the residuals alone", extrinsic["both"]), ("with the shared errors", shared)):
         if rows:
@@ -163,7 +162,7 @@ def main(path):
         print("| model | sessions | rot x | rot y | rot z | t x | t y | t z |")
         print("|---|---|---|---|---|---|---|---|")
         for model, rows in final.items():
-            ratios = [math.sqrt(sum(r[k] ** 2 for r in rows) / len(rows)) for k in range(6)]
+            ratios = [rms([r[k] for r in rows]) for k in range(6)]
             print(f"| {model} | {len(rows)} | " + " | ".join(f"{q:.2f}" for q in ratios) + " |")
     if feedback:
         feedback.sort()
