@@ -19,7 +19,7 @@
 // d = estimate - truth, R = R_true Exp(d_rot), t = t_true + d_t (docs/design.md section 2).
 //   final,logged,<the same 12>: the pipeline's last result; final,<model>: its std with other sizes of the
 //     camera's shared errors (--calibrated-with: the sizes the session used; default: the shipped ones)
-//   with --resolve, final,resolved / final,resolved-by-class: the final pairs solved again (PrintResolved)
+//   with --resolve, final,resolved-pooled / final,resolved-by-class: the final pairs solved again (PrintResolved)
 // Usage: bench_error_budget SESSION.lcmlog [--feedback] [--resolve] [--model NAME=G,H,K,S ...]
 //          [--calibrated-with G,H,K,S]
 #include <Eigen/Eigenvalues>
@@ -166,7 +166,8 @@ enum class Side { kBoth, kCameraOnly, kLidarOnly };
 // One scaled solve from `initial` (X_true when not given); its covariance from the residuals alone unless `camera_shared` is given
 // (the camera's shared errors added as handeye/shared_error.hpp does).
 HandEyeResult Step(const Session& s, const Motions& m, Side side, const SharedErrors* camera_shared = nullptr,
-                   const Isometry3* initial = nullptr, bool rotation_noise_by_axis = false) {
+                   const Isometry3* initial = nullptr,
+                   bool rotation_noise_by_axis = HandEyeSettings{}.rotation_noise_by_axis) {
   std::vector<MotionPair> pairs;
   for (size_t k = 0; k < m.keys.size(); ++k) {
     MotionPair p;
@@ -232,17 +233,17 @@ void PrintFinal(const Session& s, const SharedErrors& own,
   }
 }
 
-// The final pairs solved once more from the final estimate (the alternation's fixed point) with the shipped
-// settings, and with the rotation noise by class of motion (handeye/rotation_noise.hpp): `final,resolved`
-// and `final,resolved-by-class` carry their own error.
+// The final pairs solved once more from the final estimate (the alternation's fixed point) with the rotation
+// noise pooled over all directions and by class of motion (handeye/rotation_noise.hpp), the shipped
+// settings otherwise: `final,resolved-pooled` and `final,resolved-by-class` carry their own error.
 void PrintResolved(const Session& s) {
   const Motions m = Fuse(s, s.X_final);
   const SharedErrors shipped = HandEyeSettings{}.shared_camera_errors;
   for (const bool by_axis : {false, true}) {
     const HandEyeResult r = Step(s, m, Side::kBoth, &shipped, &s.X_final, by_axis);
     if (r.usable())
-      PrintErrorAndStd("final", by_axis ? "resolved-by-class" : "resolved", Difference(s.X_true, r.T_camera_lidar),
-                       r.covariance);
+      PrintErrorAndStd("final", by_axis ? "resolved-by-class" : "resolved-pooled",
+                       Difference(s.X_true, r.T_camera_lidar), r.covariance);
   }
 }
 
