@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <optional>
 #include <opencv2/imgproc.hpp>
 
 #include "fusion_odometry/derotation.hpp"
@@ -41,10 +42,11 @@ cv::Mat Grey(const cv::Mat& image) {
   return grey;
 }
 
-// Image j as tracked: derotated by R_d (derotation.hpp), or as it is (R_d = I).
+// Image j as tracked: derotated by R_d through `map` (derotation.hpp), or as it is (R_d = I, no map).
 struct TrackedImage {
   Eigen::Matrix3d R_d = Eigen::Matrix3d::Identity();
-  bool derotated = false;
+  std::optional<DerotationMap> map;
+  bool derotated() const { return map.has_value(); }
 };
 
 // One tracking pass: predict where each selected point appears in (derotated) image j under `prediction`
@@ -67,25 +69,23 @@ Correspondences TrackPass(const std::vector<ScanPoint>& selected, const Isometry
   std::vector<unsigned char> ok;
   tracker.Track(from, predicted, &tracked, &ok);
   Correspondences out;
-  const bool check_border = tracked_image.derotated && !camera.WrapsHorizontally();
+  const bool check_border = tracked_image.derotated() && !camera.WrapsHorizontally();
   for (size_t n = 0; n < which.size(); ++n) {
     if (!ok[n]) continue;
     const ScanPoint& s = selected[which[n]];
     Correspondence c;
     c.p_ci = s.p_ci;
     c.pixel_i = s.pixel_i;
-    c.bearing_j = R_d.transpose() * camera.Unproject(Eigen::Vector2d(tracked[n].x, tracked[n].y));
     c.index = s.index;
-    if (tracked_image.derotated) {
-      // Back into image j; a pinhole window must have come from inside image j (not its replicated border).
-      if (!camera.Project(c.bearing_j, &c.pixel_j)) continue;
-      if (check_border && (c.pixel_j.x() < border_px || c.pixel_j.y() < border_px ||
-                           c.pixel_j.x() > camera.width() - 1 - border_px ||
-                           c.pixel_j.y() > camera.height() - 1 - border_px))
-        continue;
-    } else {
-      c.pixel_j = Eigen::Vector2d(tracked[n].x, tracked[n].y);
-    }
+    // Derotated: back into image j through the map the resampling used; a pinhole window must have come
+    // from inside image j (not its replicated border).
+    c.pixel_j = tracked_image.derotated() ? tracked_image.map->SourcePixel(tracked[n].x, tracked[n].y)
+                                          : Eigen::Vector2d(tracked[n].x, tracked[n].y);
+    if (check_border && (c.pixel_j.x() < border_px || c.pixel_j.y() < border_px ||
+                         c.pixel_j.x() > camera.width() - 1 - border_px ||
+                         c.pixel_j.y() > camera.height() - 1 - border_px))
+      continue;
+    c.bearing_j = camera.Unproject(c.pixel_j);
     out.push_back(c);
   }
   return out;
@@ -150,8 +150,8 @@ cv::Mat ImageJForTracking(const cv::Mat& grey_j, const CameraModel& camera, cons
   if (tracking.derotate_min_deg >= 0 &&
       RotationAngle(guess.T_ci_cj.linear()) * 180.0 / M_PI > tracking.derotate_min_deg) {
     tracked_image->R_d = guess.T_ci_cj.linear();
-    tracked_image->derotated = true;
-    grey_j_tracked = DerotateImage(grey_j, camera, tracked_image->R_d, tracking.derotation_grid_px);
+    tracked_image->map.emplace(camera, tracked_image->R_d, tracking.derotation_grid_px);
+    grey_j_tracked = tracked_image->map->Resample(grey_j);
   }
   return grey_j_tracked;
 }
