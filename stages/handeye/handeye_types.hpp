@@ -115,7 +115,7 @@ struct HandEyeSettings {
   // entries of one unknown linear map per sensor and of its common length scale, added to the covariance
   // of the scaled solve. The camera's are the sizes fusion odometry's shared errors have in simulation
   // (docs/design.md, "Errors every motion shares"; config: handeye.shared_errors).
-  SharedErrors shared_camera_errors{1e-4, 2e-4, 0.0, 5e-4};
+  SharedErrors shared_camera_errors{8e-5, 2e-4, 0.0, 5e-4};
   SharedErrors shared_lidar_errors;
 
   // --- Observability verdict ---
