@@ -2,6 +2,8 @@
 // through Fast DDS is counted back by Fast DDS readers message for message, and fusecal-ros2-tf's
 // rt/tf_static (Cyclone DDS) reaches a late-joining Fast DDS reader with the extrinsic's values.
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <signal.h>
 #include <sys/wait.h>
 
@@ -109,8 +111,15 @@ TEST_F(FastDdsPeer, PlaysCompressedImagesWithTheSensorDataQos) {
       PlayAndCount(62, "--compressed --best-effort",
                    "--best-effort /camera/camera_info /camera/image_raw/compressed /lidar/points");
   ASSERT_TRUE(received.contains("received")) << received;
-  EXPECT_EQ(received["received"]["/camera/image_raw/compressed"]["messages"], counts_["CAMERA_IMAGE"]) << received;
-  EXPECT_EQ(received["received"]["/lidar/points"]["messages"], counts_["LIDAR_SCAN"]) << received;
+  // Best effort may drop a sample when the machine is busy (the suite runs tests side by side); the reliable
+  // test above counts exactly. Here the types and the sensor-data QoS must match: nearly all arrive.
+  const auto delivered = [&](const char* topic, long sent) {
+    const long got = received["received"][topic]["messages"].get<long>();
+    EXPECT_LE(got, sent) << topic << ": " << received;
+    EXPECT_GE(got, sent - std::max(1L, sent / 50)) << topic << ": " << received;
+  };
+  delivered("/camera/image_raw/compressed", counts_["CAMERA_IMAGE"]);
+  delivered("/lidar/points", counts_["LIDAR_SCAN"]);
 }
 
 #ifdef ROS2_TF_BIN
