@@ -10,6 +10,13 @@ namespace fusecal::fusion_odometry {
 
 namespace {
 constexpr float kOutside = -1e4f;  // a direction camera j cannot see: far outside image j
+
+// A panorama's column u into [0, width).
+template <class T>
+T WrapColumn(T u, int width) {
+  u = std::fmod(u, static_cast<T>(width));
+  return u < 0 ? u + static_cast<T>(width) : u;
+}
 }  // namespace
 
 DerotationMap::DerotationMap(const CameraModel& camera, const Eigen::Matrix3d& R_ci_cj, int grid_step)
@@ -55,12 +62,8 @@ Eigen::Vector2f DerotationMap::Interpolate(float x, float y) const {
 
 Eigen::Vector2d DerotationMap::SourcePixel(double x, double y) const {
   const Eigen::Vector2f s = Interpolate(static_cast<float>(x), static_cast<float>(y));
-  double u = s.x();
-  if (wrap_) {
-    u = std::fmod(u, static_cast<double>(width_));
-    if (u < 0) u += width_;
-  }
-  return {u, static_cast<double>(s.y())};
+  const double u = s.x();
+  return {wrap_ ? WrapColumn(u, width_) : u, static_cast<double>(s.y())};
 }
 
 cv::Mat DerotationMap::Resample(const cv::Mat& grey_j) const {
@@ -72,13 +75,7 @@ cv::Mat DerotationMap::Resample(const cv::Mat& grey_j) const {
       float* my = map_y.ptr<float>(y);
       for (int x = 0; x < width_; ++x) {
         const Eigen::Vector2f s = Interpolate(static_cast<float>(x), static_cast<float>(y));
-        float u = s.x();
-        if (wrap_) {  // into [0, w), then the offset of the padded source
-          u = std::fmod(u, static_cast<float>(width_));
-          if (u < 0) u += static_cast<float>(width_);
-          u += pad;
-        }
-        mx[x] = u;
+        mx[x] = wrap_ ? WrapColumn(s.x(), width_) + pad : s.x();  // plus the offset of the padded source
         my[x] = s.y();
       }
     }
