@@ -288,9 +288,10 @@ HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEy
 
   // The verdict from the noise the data show (never below nominal); given covariances count as they are
   // unless the residuals say they were too small; pairs correlated in sequence count as fewer.
-  r.serial_correlation_inflation = SerialCorrelationInflation(w.pairs, est.R, est.t, noise, true);
+  const VarianceFactor serial = SerialCorrelationInflation(w.pairs, est.R, est.t, noise, true);
+  r.serial_correlation_inflation = serial.Largest();
   const double chi2_factor = given_cov ? std::max(1.0, ReducedChiSquare(w.pairs, est.R, est.t, noise)) : 1.0;
-  const double variance_factor = chi2_factor * r.serial_correlation_inflation;
+  const VarianceFactor variance_factor = serial * chi2_factor;
   const ObservabilityReport obs =
       AnalyzeScaled(w.pairs, est.R, est.t, VerdictNoise(nominal, noise), s, variance_factor);
   // Along unobservable directions the estimate is noise: keep the initial guess there (zero without one).
@@ -306,7 +307,7 @@ HandEyeResult SolveScaledImpl(const std::vector<MotionPair>& input, const HandEy
   const int dof = 6 * w.size() - 6;
   if (!given_cov && dof > 0) C *= 2.0 * cost / dof;  // sigma^2 = 2 cost / dof
   if (given_cov) C *= chi2_factor;  // the given covariances were too small when the residuals exceed them
-  C *= r.serial_correlation_inflation;
+  C = serial.Inflate(C);
   C += SharedErrorCovariance(w.pairs, est.R, est.t, noise, s.shared_camera_errors, s.shared_lidar_errors);
   SetCovariance(Inflate(C, obs, est.R), &r);
   Finish(w, input, s, obs, est, {}, &r);
@@ -385,9 +386,9 @@ HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const Han
   lt = SolveTranslation(w.pairs, est.R, true, prior);
   NoiseModel shown = noise;  // the noise the data show: rotation estimated above, translation from lt
   if (lt.dof > 0) shown.trans_sigma_m = std::sqrt(0.5 * lt.residual_sum_squares / lt.dof);
-  r.serial_correlation_inflation = SerialCorrelationInflation(w.pairs, est.R, est.t, noise, false);
-  const ObservabilityReport obs =
-      AnalyzeScaleless(w.pairs, est.R, lt, VerdictNoise(nominal, shown), s, r.serial_correlation_inflation);
+  const VarianceFactor serial = SerialCorrelationInflation(w.pairs, est.R, est.t, noise, false);
+  r.serial_correlation_inflation = serial.Largest();
+  const ObservabilityReport obs = AnalyzeScaleless(w.pairs, est.R, lt, VerdictNoise(nominal, shown), s, serial);
   if (obs.verdict != Observability::kOk) {
     // Along unobservable directions the estimate is noise: keep the initial guess there (zero without one).
     if (initial && obs.verdict == Observability::kRotationDegenerate)
@@ -414,7 +415,7 @@ HandEyeResult SolveScalelessImpl(const std::vector<MotionPair>& input, const Han
 
   SetScales(w, est.R, lt, C_rr, C_tt_linear, var_t, &r);
 
-  C *= r.serial_correlation_inflation;
+  C = serial.Inflate(C);
   SetCovariance(Inflate(C, obs, est.R), &r);
   Finish(w, input, s, obs, est, lt.scales, &r);
   return r;

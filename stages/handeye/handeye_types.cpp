@@ -25,6 +25,7 @@ std::string HandEyeSettings::Validate() const {
   else if (!Positive(nominal_rotation_sigma_deg)) e << "nominal_rotation_sigma_deg must be > 0";
   else if (!Positive(nominal_translation_sigma_m)) e << "nominal_translation_sigma_m must be > 0";
   else if (!Positive(max_rotation_std_deg)) e << "max_rotation_std_deg must be > 0";
+  else if (!(degenerate_rotation_anisotropy >= 1)) e << "degenerate_rotation_anisotropy must be >= 1";
   else if (!Positive(max_translation_std_m)) e << "max_translation_std_m must be > 0";
   else if (!(verdict_hysteresis >= 0 && verdict_hysteresis < 1)) e << "verdict_hysteresis must be in [0, 1)";
   else if (!shared_camera_errors.Valid() || !shared_lidar_errors.Valid()) e << "shared error sizes must be >= 0";

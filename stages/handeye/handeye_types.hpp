@@ -125,6 +125,12 @@ struct HandEyeSettings {
   // standard deviation would exceed these thresholds (or whose singular value is zero) is unobservable.
   double max_rotation_std_deg = 1.0;
   double max_translation_std_m = 0.1;
+  // A rotation std above max_rotation_std_deg is a degenerate direction only when it is more than this
+  // many times the best-observed direction's: motions that lack an axis leave one direction far weaker
+  // than the others (a turn about the vertical alone: tens of times), noisy motions about axes spread in
+  // 3D leave all alike (a handheld rig at 1 deg per motion: within a factor of 1.5). The latter is an
+  // estimate as uncertain as its std says, observed, not a degenerate one.
+  double degenerate_rotation_anisotropy = 3.0;
   // Hysteresis: a verdict of the same session (previous_verdict, set by the hand-eye stage) changes only
   // when a standard deviation crosses its threshold by this fraction: a degenerate part becomes observed
   // below (1 - h) x threshold, an observed part becomes degenerate above (1 + h) x threshold.

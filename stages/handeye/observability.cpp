@@ -28,6 +28,7 @@ Eigen::MatrixXd PseudoInverse(const Eigen::MatrixXd& info, std::vector<Eigen::Ve
 
 struct BlockStd {
   double max_std = 0.0;
+  double min_std = 0.0;  // the best-observed direction's
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();
 };
 
@@ -45,6 +46,7 @@ BlockStd AnalyzeBlock(const Eigen::Matrix3d& cov, const std::vector<Eigen::Vecto
   if (out.max_std == kInf) return out;
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(0.5 * (cov + cov.transpose()));
   out.max_std = std::sqrt(std::max(eig.eigenvalues()(2), 0.0));
+  out.min_std = std::sqrt(std::max(eig.eigenvalues()(0), 0.0));
   out.direction = eig.eigenvectors().col(2);
   return out;
 }
@@ -71,11 +73,13 @@ double Threshold(double threshold, const HandEyeSettings& s, std::initializer_li
 }
 
 void Verdict(const BlockStd& rot, const BlockStd& trans, const Eigen::Matrix3d& R, const HandEyeSettings& settings,
-             double variance_factor, ObservabilityReport* report) {
-  const double f = std::sqrt(std::max(variance_factor, 1.0));
-  report->rotation_std_deg = rot.max_std * f * 180.0 / M_PI;
-  report->translation_std_m = trans.max_std * f;
-  if (report->rotation_std_deg > Threshold(settings.max_rotation_std_deg, settings, {Observability::kRotationDegenerate})) {
+             const VarianceFactor& variance_factor, ObservabilityReport* report) {
+  report->rotation_std_deg = rot.max_std * std::sqrt(std::max(variance_factor.rotation, 1.0)) * 180.0 / M_PI;
+  report->translation_std_m = trans.max_std * std::sqrt(std::max(variance_factor.translation, 1.0));
+  // Motions that lack an axis leave one direction far weaker than the others; noise alone, all alike.
+  const bool lacks_an_axis = !(rot.max_std <= settings.degenerate_rotation_anisotropy * rot.min_std);
+  if (lacks_an_axis &&
+      report->rotation_std_deg > Threshold(settings.max_rotation_std_deg, settings, {Observability::kRotationDegenerate})) {
     report->verdict = Observability::kRotationDegenerate;
     report->direction = (R * rot.direction).normalized();  // LiDAR-frame axis -> camera frame
   } else if (report->translation_std_m >
@@ -90,7 +94,7 @@ void Verdict(const BlockStd& rot, const BlockStd& trans, const Eigen::Matrix3d& 
 
 ObservabilityReport AnalyzeScaled(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
                                   const Eigen::Vector3d& t, const NoiseModel& noise,
-                                  const HandEyeSettings& settings, double variance_factor) {
+                                  const HandEyeSettings& settings, const VarianceFactor& variance_factor) {
   Eigen::MatrixXd info = Eigen::MatrixXd::Zero(6, 6);
   for (const auto& p : pairs) {
     const Matrix6 J = JacobianWrtExtrinsic(p, R);
@@ -112,7 +116,7 @@ ObservabilityReport AnalyzeScaled(const std::vector<MotionPair>& pairs, const Ei
 
 ObservabilityReport AnalyzeScaleless(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
                                      const LinearTranslation& lt, const NoiseModel& noise,
-                                     const HandEyeSettings& settings, double variance_factor) {
+                                     const HandEyeSettings& settings, const VarianceFactor& variance_factor) {
   std::vector<Eigen::VectorXd> nulls;
   const Eigen::Matrix3d C_rr = PseudoInverse(RotationInformation(pairs, R, noise), &nulls);
   const double var_t = 2.0 * noise.trans_sigma_m * noise.trans_sigma_m;

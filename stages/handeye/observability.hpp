@@ -1,7 +1,8 @@
 // Observability of the extrinsic from a set of motions: singular values of the whitened Jacobian.
 //
 // The information matrix J^T J of the used pairs (whitened with the verdict noise: the larger of nominal
-// and estimated noise, or the given covariances times `variance_factor`) is pseudo-inverted. An exactly null direction, or a direction whose standard deviation exceeds
+// and estimated noise, or the given covariances; its rotation and translation blocks times
+// `variance_factor`) is pseudo-inverted. An exactly null direction, or a direction whose standard deviation exceeds
 // settings.max_rotation_std_deg / max_translation_std_m, is unobservable. Typical cases:
 //   * all rotation axes parallel (scaleless), or all motions screws about one line (scaled): the rotation
 //     about the axis, J_rot = I - R_b^T has the axis as null vector -> rotation_degenerate;
@@ -17,6 +18,7 @@
 
 #include "handeye/handeye_types.hpp"
 #include "handeye/pair_model.hpp"
+#include "handeye/serial_correlation.hpp"
 #include "handeye/translation_solver.hpp"
 
 namespace fusecal::handeye {
@@ -31,13 +33,13 @@ struct ObservabilityReport {
 
 ObservabilityReport AnalyzeScaled(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
                                   const Eigen::Vector3d& t, const NoiseModel& noise, const HandEyeSettings& settings,
-                                  double variance_factor = 1.0);
+                                  const VarianceFactor& variance_factor = {});
 
 // Rotation from the rotation residuals alone; t with the scales marginalised, from `lt` (translation
 // residual variance 2 sigma_trans^2 per axis), plus the rotation uncertainty propagated through lt.dt_drot.
 ObservabilityReport AnalyzeScaleless(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
                                      const LinearTranslation& lt, const NoiseModel& noise,
-                                     const HandEyeSettings& settings, double variance_factor = 1.0);
+                                     const HandEyeSettings& settings, const VarianceFactor& variance_factor = {});
 
 // The noise a verdict uses: per component the larger of the nominal and the estimated noise.
 NoiseModel VerdictNoise(const NoiseModel& nominal, const NoiseModel& estimated);
