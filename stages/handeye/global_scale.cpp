@@ -66,7 +66,12 @@ HandEyeResult SolveGlobalScale(const std::vector<MotionPair>& pairs, const HandE
   }
   Isometry3 start = scaleless.T_camera_lidar;
   start.translation() = fit.t;
-  HandEyeResult result = SolveScaled(metric, settings, &start);
+  // The scale is known only to lambda_std: every camera translation shares that relative error, which the
+  // scaled solve adds to its covariance as the camera's common length scale (handeye/shared_error.hpp).
+  HandEyeSettings scaled_settings = settings;
+  scaled_settings.shared_camera_errors.translation_scale =
+      std::hypot(settings.shared_camera_errors.translation_scale, fit.lambda_std / fit.lambda);
+  HandEyeResult result = SolveScaled(metric, scaled_settings, &start);
   result.scales = {fit.lambda};
   result.scale_std_devs = {fit.lambda_std};
   std::ostringstream m;
