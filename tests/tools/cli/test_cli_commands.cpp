@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/process_utils.hpp"
+#include "handeye/handheld_motions.hpp"
 #include "handeye/synthetic_motions.hpp"
 #include "formats/result_file.hpp"
 
@@ -77,11 +78,11 @@ TEST(SimulateCommand, BadScenarioNamesTheKeyAndLeavesNoLog) {
   EXPECT_NE(access(log.c_str(), F_OK), 0);
 }
 
-void WriteCsv(const std::string& path, const SyntheticMotionSet& set, const std::string& extra_lines = "") {
+void WriteCsv(const std::string& path, const std::vector<MotionPair>& pairs, const std::string& extra_lines = "") {
   std::ofstream out(path);
   out.precision(17);
   out << "a_qw,a_qx,a_qy,a_qz,a_tx,a_ty,a_tz,b_qw,b_qx,b_qy,b_qz,b_tx,b_ty,b_tz\n";
-  for (const auto& p : set.pairs) {
+  for (const auto& p : pairs) {
     const Eigen::Quaterniond qa(p.A.linear()), qb(p.B.linear());
     out << qa.w() << "," << qa.x() << "," << qa.y() << "," << qa.z() << "," << p.A.translation().x() << ","
         << p.A.translation().y() << "," << p.A.translation().z() << "," << qb.w() << "," << qb.x() << "," << qb.y()
@@ -99,7 +100,7 @@ TEST(HandEyeCommand, SolvesScaledAndScalelessCsvAndReportsBadLines) {
     settings.seed = 5;
     const SyntheticMotionSet set = GenerateSyntheticMotions(settings);
     const std::string csv = Temp(scaled ? "scaled.csv" : "scaleless.csv"), out = Temp("result.yaml");
-    WriteCsv(csv, set, "1,2,3\n0.5,0.5,0.5,0.5,0,0,0,nan,0,0,0,0,0,0\n2,0,0,0,0,0,0,1,0,0,0,0,0,0\n");
+    WriteCsv(csv, set.pairs, "1,2,3\n0.5,0.5,0.5,0.5,0,0,0,nan,0,0,0,0,0,0\n2,0,0,0,0,0,0,1,0,0,0,0,0,0\n");
     const auto result = RunCommand(kFusecal + " handeye --motions " + csv + (scaled ? " --camera-scaled" : "") +
                                    " --out " + out + " 2>&1");
     EXPECT_EQ(result.exit_code, 0) << result.output;
@@ -122,7 +123,7 @@ TEST(HandEyeCommand, OneGlobalScaleForTheCameraTrajectory) {
   SyntheticMotionSet set = GenerateSyntheticMotions(settings);
   for (auto& p : set.pairs) p.A.translation() *= 2.5;
   const std::string csv = Temp("global.csv"), out = Temp("global.yaml");
-  WriteCsv(csv, set);
+  WriteCsv(csv, set.pairs);
   const auto result = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale global --out " + out + " 2>&1");
   EXPECT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("global camera scale 0.4"), std::string::npos) << result.output;
@@ -134,11 +135,41 @@ TEST(HandEyeCommand, OneGlobalScaleForTheCameraTrajectory) {
   EXPECT_NE(bad.output.find("--camera-scale"), std::string::npos) << bad.output;
 }
 
+// Handheld pairs as a user brings them (about 1 deg of error per motion, correlated along the trajectory,
+// a camera trajectory in the units of structure from motion): observed, with a rotation std of the size of
+// the error, in both scale modes; `global` solves with its one scale and differs from `per-motion`.
+TEST(HandEyeCommand, HandheldPairsAreObservedInBothScaleModes) {
+  HandheldMotionSettings settings;
+  settings.seed = 3;
+  const HandheldMotionSet set = GenerateHandheldMotions(settings);
+  const std::string csv = Temp("handheld.csv");
+  WriteCsv(csv, set.pairs);
+  std::vector<CalibrationResult> results;
+  for (const std::string mode : {"per-motion", "global"}) {
+    SCOPED_TRACE(mode);
+    const std::string out = Temp("handheld-" + mode + ".yaml");
+    const auto run = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale " + mode + " --out " + out + " 2>&1");
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    const CalibrationResult r = ReadResultFile(out);
+    EXPECT_EQ(r.status, "converged") << run.output;
+    EXPECT_EQ(r.observability, "ok") << run.output;
+    EXPECT_LT(RotationErrorDeg(r.T_camera_lidar.linear(), set.T_camera_lidar.linear()), 2.0);
+    ASSERT_TRUE(r.covariance.has_value());
+    const Eigen::Vector3d std_deg = RotationStdDevDeg(*r.covariance);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_GT(std_deg(k), 0.2) << run.output;
+      EXPECT_LT(std_deg(k), 1.0) << run.output;
+    }
+    results.push_back(r);
+  }
+  EXPECT_GT((results[0].T_camera_lidar.translation() - results[1].T_camera_lidar.translation()).norm(), 1e-4);
+}
+
 TEST(HandEyeCommand, TooFewMotionsAndBadFilesFailClearly) {
   SyntheticMotionSettings settings;
   settings.num_motions = 1;
   const std::string csv = Temp("one.csv"), out = Temp("one.yaml");
-  WriteCsv(csv, GenerateSyntheticMotions(settings));
+  WriteCsv(csv, GenerateSyntheticMotions(settings).pairs);
   const auto one = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scaled --out " + out + " 2>&1");
   EXPECT_EQ(one.exit_code, 1);
   EXPECT_NE(one.output.find("too_few_motions"), std::string::npos) << one.output;
