@@ -9,23 +9,6 @@ namespace fusecal::handeye {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNullTolerance = 1e-12;  // eigenvalue of J^T J relative to the largest
-
-// Pseudo-inverse of a symmetric information matrix; null eigenvectors are returned separately.
-Eigen::MatrixXd PseudoInverse(const Eigen::MatrixXd& info, std::vector<Eigen::VectorXd>* nulls) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (info + info.transpose()));
-  const double max_ev = eig.eigenvalues().cwiseAbs().maxCoeff();
-  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(info.rows(), info.cols());
-  for (int k = 0; k < info.rows(); ++k) {
-    const Eigen::VectorXd v = eig.eigenvectors().col(k);
-    if (max_ev > 0.0 && eig.eigenvalues()(k) > kNullTolerance * max_ev)
-      C += v * v.transpose() / eig.eigenvalues()(k);
-    else
-      nulls->push_back(v);
-  }
-  return C;
-}
-
 struct BlockStd {
   double max_std = 0.0;
   double min_std = 0.0;  // the best-observed direction's

@@ -110,4 +110,20 @@ Eigen::MatrixXd WhiteningMatrix(const Eigen::MatrixXd& C) {
   return L.triangularView<Eigen::Lower>().solve(Eigen::MatrixXd::Identity(n, n));
 }
 
+Eigen::MatrixXd PseudoInverse(const Eigen::MatrixXd& info, std::vector<Eigen::VectorXd>* nulls, bool square_root) {
+  constexpr double kNullTolerance = 1e-12;  // eigenvalue relative to the largest
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (info + info.transpose()));
+  const double max_ev = eig.eigenvalues().cwiseAbs().maxCoeff();
+  Eigen::MatrixXd C = Eigen::MatrixXd::Zero(info.rows(), info.cols());
+  for (int k = 0; k < info.rows(); ++k) {
+    const Eigen::VectorXd v = eig.eigenvectors().col(k);
+    const double ev = eig.eigenvalues()(k);
+    if (max_ev > 0.0 && ev > kNullTolerance * max_ev)
+      C += v * v.transpose() / (square_root ? std::sqrt(ev) : ev);
+    else if (nulls)
+      nulls->push_back(v);
+  }
+  return C;
+}
+
 }  // namespace fusecal::handeye

@@ -54,4 +54,10 @@ Matrix6 JacobianWrtExtrinsic(const MotionPair& pair, const Eigen::Matrix3d& R);
 // W such that W^T W = C^-1 (W = L^-1 for C = L L^T); C is regularised if not positive definite.
 Eigen::MatrixXd WhiteningMatrix(const Eigen::MatrixXd& C);
 
+// Pseudo-inverse of a symmetric positive semi-definite information matrix over its eigenvalues above
+// 1e-12 x the largest, or with `square_root` its square root (H^-1/2); the eigenvectors left out (null
+// directions) are appended to *nulls when given.
+Eigen::MatrixXd PseudoInverse(const Eigen::MatrixXd& info, std::vector<Eigen::VectorXd>* nulls = nullptr,
+                              bool square_root = false);
+
 }  // namespace fusecal::handeye

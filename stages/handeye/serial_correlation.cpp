@@ -1,20 +1,9 @@
 #include "handeye/serial_correlation.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 
 namespace fusecal::handeye {
 namespace {
-
-// Pseudo-inverse (power -1) or its square root (power -0.5) of a symmetric positive semi-definite matrix.
-Eigen::MatrixXd InversePower(const Eigen::MatrixXd& H, double power) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (H + H.transpose()));
-  const double max_ev = eig.eigenvalues().cwiseAbs().maxCoeff();
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(H.rows());
-  for (int k = 0; k < H.rows(); ++k)
-    if (max_ev > 0.0 && eig.eigenvalues()(k) > 1e-12 * max_ev) d(k) = std::pow(eig.eigenvalues()(k), power);
-  return eig.eigenvectors() * d.asDiagonal() * eig.eigenvectors().transpose();
-}
 
 // kappa of a series of vectors: 1 + 2 sum of the leading lag autocorrelations that are positive beyond
 // noise, normalised by the energy of all (the usual biased estimator: it damps the long lags).
@@ -54,9 +43,9 @@ VarianceFactor SerialCorrelationInflation(const std::vector<MotionPair>& pairs, 
     pulls.push_back(J.transpose() * (W * PairResidual(p, R, t).head(dim)));
     H += J.transpose() * J;
   }
-  const Eigen::MatrixXd C = InversePower(H, -1.0);
+  const Eigen::MatrixXd C = PseudoInverse(H);
   const auto shares = [&](int block) {
-    const Eigen::Matrix3d whiten = InversePower(C.block<3, 3>(3 * block, 3 * block), -0.5);
+    const Eigen::Matrix3d whiten = PseudoInverse(C.block<3, 3>(3 * block, 3 * block), nullptr, true);
     std::vector<Eigen::Vector3d> out;
     for (const auto& g : pulls) out.push_back(whiten * (C * g).segment<3>(3 * block));
     return out;
