@@ -83,7 +83,6 @@ HandheldMotionSet GenerateHandheldMotions(const HandheldMotionSettings& s) {
     p.A.translation() *= units;
     p.camera_scaled = false;
     out.pairs.push_back(p);
-    out.turn_deg.push_back(turn);
   }
   return out;
 }

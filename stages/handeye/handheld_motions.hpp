@@ -39,7 +39,6 @@ struct HandheldMotionSettings {
 struct HandheldMotionSet {
   Isometry3 T_camera_lidar = Isometry3::Identity();
   std::vector<MotionPair> pairs;  // station_i = k, station_j = k + 1; camera_scaled false
-  std::vector<double> turn_deg;   // true turn of each motion
 };
 
 HandheldMotionSet GenerateHandheldMotions(const HandheldMotionSettings& settings);
