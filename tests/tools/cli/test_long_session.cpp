@@ -66,7 +66,7 @@ TEST(HandEyeNodeLimit, HoldsAtMostMaxMotionsAndListsEveryHeldPair) {
   synthetic.rotation_noise_deg = 0.01;
   synthetic.translation_noise_m = 0.001;
   const SyntheticMotionSet set = GenerateSyntheticMotions(synthetic);
-  HandEyeNodeSettings settings;
+  CalibratorSettings settings;
   settings.scaled_refinement = false;
   settings.max_motions = 8;
   HandEyeNode node(settings);

@@ -16,7 +16,7 @@ const Reader kStationarity = [](ConfigReader r) { ReadStationarityNodeSettings(r
 const Reader kLidarIcp = [](ConfigReader r) { ReadLidarIcpNodeSettings(r); };
 const Reader kCameraFrontend = [](ConfigReader r) { ReadCameraFrontendNodeSettings(r); };
 const Reader kFusionOdometry = [](ConfigReader r) { ReadFusionOdometryNodeSettings(r); };
-const Reader kHandEye = [](ConfigReader r) { ReadHandEyeNodeSettings(r); };
+const Reader kHandEye = [](ConfigReader r) { ReadCalibratorSettings(r); };
 const Reader kRos2Tf = [](ConfigReader r) { ReadRos2TfSettings(r); };
 
 // Reads `section: {line}` with `read`; the ConfigError message, or "" when accepted.
@@ -109,10 +109,10 @@ TEST(PipelineConfig, NodeSettingsValidateTheirOwnFieldsAndTheCores) {
   EXPECT_EQ(LidarIcpNodeSettings().Validate(), "");
   EXPECT_EQ(CameraFrontendNodeSettings().Validate(), "");
   EXPECT_EQ(FusionOdometryNodeSettings().Validate(), "");
-  EXPECT_EQ(HandEyeNodeSettings().Validate(), "");
+  EXPECT_EQ(CalibratorSettings().Validate(), "");
   EXPECT_EQ(StationarityNodeSettings().Validate(), "");
   EXPECT_EQ(Ros2TfSettings().Validate(), "");
-  HandEyeNodeSettings handeye;
+  CalibratorSettings handeye;
   handeye.solver.max_iterations = 0;  // the solver's, not the node's
   EXPECT_EQ(handeye.Validate().rfind("solver.max_iterations", 0), 0u) << handeye.Validate();
 }

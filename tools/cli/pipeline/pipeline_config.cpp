@@ -27,7 +27,7 @@ PipelineConfig LoadPipelineConfig(const std::string& path) {
   c.lidar_icp = ReadLidarIcpNodeSettings(root.Child("lidar_icp"));
   c.camera_frontend = ReadCameraFrontendNodeSettings(root.Child("camera_frontend"));
   c.fusion_odometry = ReadFusionOdometryNodeSettings(root.Child("fusion_odometry"));
-  c.handeye = ReadHandEyeNodeSettings(root.Child("handeye"));
+  c.handeye = ReadCalibratorSettings(root.Child("handeye"));
   c.ros2_tf = ReadRos2TfSettings(root.Child("ros2_tf"));
   c.ros2_input = ReadRos2InputSettings(root.Child("ros2_input"));
   ConfigReader run = root.Child("run");

@@ -25,7 +25,7 @@ struct PipelineConfig {
   LidarIcpNodeSettings lidar_icp;
   CameraFrontendNodeSettings camera_frontend;
   FusionOdometryNodeSettings fusion_odometry;
-  HandEyeNodeSettings handeye;
+  CalibratorSettings handeye;
   Ros2TfSettings ros2_tf;
   Ros2InputSettings ros2_input;  // `fusecal run --ros2`
   double idle_timeout_s = 60;

@@ -1,0 +1,230 @@
+#include "handeye/calibrator.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "foundation/observed_covariance.hpp"
+#include "handeye/motion_selection.hpp"
+
+namespace fusecal {
+
+namespace {
+
+bool Positive(double v) { return std::isfinite(v) && v > 0; }
+bool NonNegative(double v) { return std::isfinite(v) && v >= 0; }
+
+bool Observable(const HandEyeResult& r) { return r.observability == Observability::kOk; }
+
+// The alternation can start when the rotation is known: the scaleless translation may still be partly
+// unobservable (every motion's unknown scale absorbs one direction; rotations about a pivot give
+// translation directions that repeat), which the metric camera motions of fusion odometry resolve.
+bool CanRefine(const HandEyeResult& r) {
+  return r.usable() && r.observability != Observability::kRotationDegenerate &&
+         r.observability != Observability::kTooFewMotions;
+}
+
+StationPair KeyOf(const SensorMotion& m) { return {m.station_i, m.station_j}; }
+
+}  // namespace
+
+const char* Name(VersionStatus status) {
+  switch (status) {
+    case VersionStatus::kInitial: return "initial";
+    case VersionStatus::kRefining: return "refining";
+    case VersionStatus::kConverged: return "converged";
+    case VersionStatus::kNotConverged: return "not_converged";
+    case VersionStatus::kDegenerate: return "degenerate";
+    case VersionStatus::kFailed: return "failed";
+  }
+  return "unknown";
+}
+
+std::string CalibratorSettings::Validate() const {
+  if (!Positive(tolerance_rotation_deg)) return "tolerance_rotation_deg: must be positive";
+  if (!Positive(tolerance_translation_m)) return "tolerance_translation_m: must be positive";
+  if (max_iterations < 1 || max_iterations > 1000) return "max_iterations: must be in [1, 1000]";
+  if (!NonNegative(tolerance_std_fraction) || tolerance_std_fraction > 1) return "tolerance_std_fraction: must be in [0, 1]";
+  if (!NonNegative(retry_s)) return "retry_s: must not be negative";
+  if (max_motions < std::max(2, solver.min_pairs) || max_motions > 100000)
+    return "max_motions: must be in [min_pairs, 100000] (min_pairs is " + std::to_string(solver.min_pairs) + ")";
+  const std::string solver_problem = solver.Validate();
+  return solver_problem.empty() ? solver_problem : "solver." + solver_problem;
+}
+
+std::vector<CalibrationVersion> Calibrator::OnMotion(const SensorMotion& motion, int64_t now_utime) {
+  const StationPair key = KeyOf(motion);
+  if (dropped_.count(key)) return {};  // a repeat (after a restart) of a pair dropped for good
+  const bool camera = motion.sensor == SensorMotion::Sensor::kCamera;
+  auto& store = camera ? camera_motions_ : lidar_motions_;
+  const bool known = store.count(key) > 0;
+  store[key] = motion;
+  if (known || !motion.valid) return {};
+  // A new usable pair completes a motion: start a new round of the alternation.
+  const auto& others = camera ? lidar_motions_ : camera_motions_;
+  const auto other = others.find(key);
+  if (other == others.end() || !other->second.valid) return {};
+  LimitPairs();
+  return StartRound(now_utime);
+}
+
+void Calibrator::LimitPairs() {
+  const std::vector<MotionPair> pairs = ScalelessPairs();
+  if (static_cast<int>(pairs.size()) <= settings_.max_motions) return;
+  const std::vector<int> keep =
+      SelectInformativePairs(pairs, settings_.max_motions, settings_.solver.nominal_rotation_sigma_deg);
+  const std::set<int> kept(keep.begin(), keep.end());
+  for (int k = 0; k < static_cast<int>(pairs.size()); ++k) {
+    if (kept.count(k)) continue;
+    const StationPair key{pairs[k].station_i, pairs[k].station_j};
+    camera_motions_.erase(key);
+    lidar_motions_.erase(key);
+    dropped_.insert(key);
+    dropped_since_version_.push_back(key);
+  }
+}
+
+bool Calibrator::PairWithLidar(const SensorMotion& camera, MotionPair* pair) const {
+  const auto lidar = lidar_motions_.find(KeyOf(camera));
+  if (!camera.valid || lidar == lidar_motions_.end() || !lidar->second.valid) return false;
+  pair->station_i = camera.station_i;
+  pair->station_j = camera.station_j;
+  pair->A = camera.T_i_j;
+  pair->B = lidar->second.T_i_j;
+  pair->camera_scaled = camera.scaled;
+  return true;
+}
+
+std::vector<MotionPair> Calibrator::ScalelessPairs() const {
+  std::vector<MotionPair> pairs;
+  MotionPair p;
+  for (const auto& [key, camera] : camera_motions_)
+    if (PairWithLidar(camera, &p)) pairs.push_back(p);
+  return pairs;
+}
+
+std::vector<CalibrationVersion> Calibrator::StartRound(int64_t now_utime) {
+  // No prior: the scaleless estimate stays what the scaleless motions alone say (the baseline).
+  // The verdict keeps its hysteresis from the previous solve of the same kind.
+  HandEyeSettings solver = settings_.solver;
+  if (initial_ && initial_->usable()) solver.previous_verdict = initial_->observability;
+  initial_ = SolveScaleless(ScalelessPairs(), solver);
+  iteration_ = 0;
+  converged_ = false;
+  const bool usable = CanRefine(*initial_);
+  if (!usable) {
+    // Not enough to refine: report what the motions give and wait for more.
+    const VersionStatus status = initial_->usable() ? VersionStatus::kDegenerate : VersionStatus::kFailed;
+    if (!current_ || !current_->scaled) current_ = *initial_;
+    state_ = std::string("waiting for motions (") + Name(initial_->observability) + ")";
+    return {MakeVersion(*initial_, status, {}, now_utime)};
+  }
+  if (!settings_.scaled_refinement) {
+    current_ = *initial_;
+    converged_ = Observable(*initial_) && initial_->converged;
+    state_ = converged_ ? "converged (scaleless)"
+                        : std::string("waiting for motions (") + Name(initial_->observability) + ")";
+    return {MakeVersion(*initial_, converged_ ? VersionStatus::kConverged : VersionStatus::kDegenerate, {},
+                        now_utime)};
+  }
+  state_ = "refining";
+  if (current_ && current_->scaled) {
+    // The scaleless estimate over all pairs, for the record; then continue from the scaled estimate.
+    std::vector<CalibrationVersion> out{MakeVersion(*initial_, VersionStatus::kInitial, {}, now_utime)};
+    out.push_back(MakeVersion(*current_, VersionStatus::kRefining, {}, now_utime));
+    return out;
+  }
+  current_ = *initial_;
+  return {MakeVersion(*initial_, VersionStatus::kRefining, {}, now_utime)};
+}
+
+std::vector<CalibrationVersion> Calibrator::OnFusedMotions(int version, const std::vector<SensorMotion>& motions,
+                                                           int64_t now_utime) {
+  if (version != awaiting_version_) return {};  // old or repeated answer
+  std::vector<MotionPair> pairs;
+  std::string first_failure;
+  int failed = 0;
+  for (const auto& m : motions) {
+    if (!m.valid && failed++ == 0)
+      first_failure = std::to_string(m.station_i) + "-" + std::to_string(m.station_j) + ": " + m.failure_reason;
+    MotionPair p;
+    if (m.scaled && PairWithLidar(m, &p)) pairs.push_back(p);
+  }
+  HandEyeSettings solver = settings_.solver;
+  if (current_->scaled && current_->usable()) solver.previous_verdict = current_->observability;
+  HandEyeResult result = SolveScaled(pairs, solver, &current_->T_camera_lidar);
+  if (!result.usable()) {
+    // Keep what we had; say why and wait for more motions.
+    std::string why = "scaled solve failed: " + result.message;
+    if (failed > 0)
+      why = "fusion odometry failed for " + std::to_string(failed) + " of " + std::to_string(motions.size()) +
+            " motions (first: " + first_failure + "); " + why;
+    state_ = "waiting for motions (" + why + ")";
+    HandEyeResult kept = *current_;
+    kept.message = why;
+    return {MakeVersion(kept, VersionStatus::kFailed, {}, now_utime)};
+  }
+  const double change_rot_deg = RotationErrorDeg(result.T_camera_lidar.linear(), current_->T_camera_lidar.linear());
+  const Change change{change_rot_deg * M_PI / 180.0,
+                      (result.T_camera_lidar.translation() - current_->T_camera_lidar.translation()).norm()};
+  current_ = result;
+  ++iteration_;
+  const ObservedUncertainty observed =
+      ObservedPart(result.covariance, result.T_camera_lidar.linear(), result.unobservable_direction);
+  const double f = settings_.tolerance_std_fraction;
+  const bool small = change_rot_deg < std::max(settings_.tolerance_rotation_deg, f * observed.max_rotation_std_deg) &&
+                     change.translation_m < std::max(settings_.tolerance_translation_m, f * observed.max_translation_std_m);
+  const bool done = small || iteration_ >= settings_.max_iterations;
+  VersionStatus status = VersionStatus::kRefining;
+  if (done)
+    status = !Observable(result)         ? VersionStatus::kDegenerate
+             : result.converged && small ? VersionStatus::kConverged
+                                         : VersionStatus::kNotConverged;
+  converged_ = status == VersionStatus::kConverged;
+  state_ = Name(status);
+  return {MakeVersion(result, status, change, now_utime)};
+}
+
+CalibrationVersion Calibrator::MakeVersion(const HandEyeResult& result, VersionStatus status, Change change,
+                                           int64_t now_utime) {
+  CalibrationVersion v;
+  v.version = ++version_;
+  v.utime = now_utime;
+  v.status = status;
+  v.result = result;
+  v.iteration = iteration_;
+  v.change_rotation_rad = change.rotation_rad;
+  v.change_translation_m = change.translation_m;
+  // A request lists the pairs fusion odometry is to compute: all that the newest scaleless solve used.
+  const HandEyeResult& used_by = v.asks() && initial_ ? *initial_ : result;
+  for (const auto& p : used_by.used_pairs) v.used.push_back({p.station_i, p.station_j});
+  for (const auto& p : result.rejected_pairs) v.not_used.push_back({p.station_i, p.station_j});
+  // Pairs that this solve did not take (too few motions, not asked for, rejected before) are listed as not
+  // used: stations of the held pairs are kept by fusion odometry and the coordinator by this list.
+  ListHeldPairs(&v);
+  dropped_since_version_.clear();
+  awaiting_version_ = v.asks() ? v.version : -1;
+  last_sent_utime_ = now_utime;
+  last_request_.reset();
+  if (v.asks()) last_request_ = v;
+  return v;
+}
+
+void Calibrator::ListHeldPairs(CalibrationVersion* v) const {
+  std::set<StationPair> listed(v->used.begin(), v->used.end());
+  listed.insert(v->not_used.begin(), v->not_used.end());
+  std::vector<StationPair> unlisted;
+  for (const auto& p : ScalelessPairs()) unlisted.push_back({p.station_i, p.station_j});
+  unlisted.insert(unlisted.end(), dropped_since_version_.begin(), dropped_since_version_.end());
+  for (const auto& key : unlisted)
+    if (listed.insert(key).second) v->not_used.push_back(key);
+}
+
+std::optional<CalibrationVersion> Calibrator::Tick(int64_t now_utime) {
+  if (awaiting_version_ < 0 || !last_request_ || settings_.retry_s <= 0) return std::nullopt;
+  if (now_utime - last_sent_utime_ < static_cast<int64_t>(settings_.retry_s * 1e6)) return std::nullopt;
+  ++retries_;
+  last_sent_utime_ = now_utime;
+  return last_request_;  // same version: answered from cache if seen
+}
+
+}  // namespace fusecal
