@@ -49,6 +49,17 @@ ConfigReader ConfigReader::Child(const std::string& key) {
   return ConfigReader(node_[key], source_, PathOf(key));
 }
 
+std::vector<ConfigReader> ConfigReader::Items(const std::string& key) {
+  read_.insert(key);
+  std::vector<ConfigReader> items;
+  if (!Has(key)) return items;
+  const YAML::Node list = node_[key];
+  if (!list.IsSequence()) Fail(key, "must be a list");
+  for (size_t k = 0; k < list.size(); ++k)
+    items.emplace_back(list[k], source_, PathOf(key) + "[" + std::to_string(k) + "]");
+  return items;
+}
+
 void ConfigReader::Finish() const {
   if (!node_ || !node_.IsMap()) return;
   std::vector<std::string> unknown;

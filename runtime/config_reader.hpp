@@ -68,6 +68,9 @@ class ConfigReader {
 
   // A nested map; an empty reader when absent. Its unknown keys are checked by its own Finish().
   ConfigReader Child(const std::string& key);
+  // A list of maps, one reader per entry, named "key[0]", "key[1]", ...; empty when absent. Throws
+  // ConfigError when the value is not a list, or an entry not a map.
+  std::vector<ConfigReader> Items(const std::string& key);
 
   // Throws ConfigError listing every key of this node that was never read.
   void Finish() const;
