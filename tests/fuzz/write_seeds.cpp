@@ -208,6 +208,15 @@ void WriteLogSeeds() {
                w.WriteMessage(channels::kStatus, 1, Status());
                w.WriteMessage(channels::kGroundTruth, 2, GroundTruth());
              }));
+  WriteBytes("ground_truth_log", "moved", Log([](LogWriter& w) {  // the camera moved on its mount at 25
+               w.WriteMessage(channels::kGroundTruth, 1, GroundTruth());
+               ground_truth_t moved = GroundTruth();
+               moved.utime = 25;
+               ToRowMajor(FromRowMajor(moved.T_camera_lidar) * MakeIsometry(RotationFromRpy(0.02, 0.0, 0.0),
+                                                                             Eigen::Vector3d(0.02, 0.0, 0.0)),
+                          moved.T_camera_lidar);
+               w.WriteMessage(channels::kGroundTruth, 25, moved);
+             }));
 }
 
 void WriteText(const std::string& target, const std::string& name, const std::string& text) {

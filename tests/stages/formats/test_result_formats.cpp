@@ -7,7 +7,10 @@
 
 #include "support/process_utils.hpp"
 #include "formats/extrinsic_formats.hpp"
+#include "formats/ground_truth.hpp"
 #include "formats/result_file.hpp"
+#include "runtime/channels.hpp"
+#include "runtime/lcm_log.hpp"
 
 namespace fusecal {
 namespace {
@@ -104,6 +107,93 @@ TEST(Commands, EvaluateAndExport) {
                        " 2>&1")
                 .exit_code,
             1);
+}
+
+// A log with one GROUND_TRUTH message per extrinsic, each holding from its utime, written when it takes
+// effect among some other traffic (as `fusecal simulate` writes a camera moved on its mount).
+void WriteTruthLog(const std::string& path, const std::vector<std::pair<int64_t, Eigen::Matrix4d>>& extrinsics,
+                   int64_t end_utime) {
+  LogWriter writer(path);
+  for (const auto& [utime, M] : extrinsics) {
+    ground_truth_t truth{};
+    truth.utime = utime;
+    truth.source = "test";
+    for (int i = 0; i < 16; ++i) truth.T_camera_lidar[i] = M(i / 4, i % 4);
+    writer.WriteMessage(channels::kGroundTruth, utime, truth);
+    writer.Write("OTHER", utime + 1, "x", 1);
+  }
+  writer.Write("OTHER", end_utime, "x", 1);
+  writer.Close();
+}
+
+nlohmann::json Evaluate(const std::string& args, int expected_exit = 0) {
+  const auto run = RunCommand(std::string(FUSECAL_BIN) + " evaluate " + args + " 2>&1");
+  EXPECT_EQ(run.exit_code, expected_exit) << run.output;
+  if (run.exit_code != 0) return nlohmann::json{{"output", run.output}};
+  return nlohmann::json::parse(run.output);
+}
+
+TEST(Commands, EvaluateAgainstTheExtrinsicInForceAtTheLogsEndOrAtAGivenTime) {
+  const std::string result = TempFile("moved-est.yaml"), log = TempFile("moved.lcmlog");
+  const Isometry3 before = SampleResult().T_camera_lidar;
+  const Isometry3 after = before * MakeIsometry(RotationFromRpy(1.0 * M_PI / 180, 0, 0), {0.02, 0, 0});
+  WriteTruthLog(log, {{1000, before.matrix()}, {5000, after.matrix()}}, 9000);
+  CalibrationResult r = SampleResult();
+  r.T_camera_lidar = after;
+  WriteResultFile(result, r);
+
+  const auto at_end = Evaluate("--result " + result + " --truth " + log);
+  EXPECT_LT(at_end["rot_err_deg"].get<double>(), 1e-9);
+  EXPECT_LT(at_end["trans_err_m"].get<double>(), 1e-12);
+  EXPECT_EQ(at_end["truth_from_utime"].get<int64_t>(), 5000);
+
+  for (const int64_t utime : {int64_t{1000}, int64_t{4999}}) {
+    const auto early = Evaluate("--result " + result + " --truth " + log + " --at-utime " + std::to_string(utime));
+    EXPECT_NEAR(early["rot_err_deg"].get<double>(), 1.0, 1e-6) << utime;
+    EXPECT_NEAR(early["trans_err_m"].get<double>(), 0.02, 1e-9) << utime;
+    EXPECT_EQ(early["truth_from_utime"].get<int64_t>(), 1000) << utime;
+  }
+  EXPECT_EQ(Evaluate("--result " + result + " --truth " + log + " --at-utime 5000")["truth_from_utime"], 5000);
+
+  // A result file as the truth has no time: no truth_from_utime, and --at-utime is refused.
+  const auto from_yaml = Evaluate("--result " + result + " --truth " + result);
+  EXPECT_FALSE(from_yaml.contains("truth_from_utime"));
+  EXPECT_NE(Evaluate("--result " + result + " --truth " + result + " --at-utime 5000", 1)["output"]
+                .get<std::string>()
+                .find("needs a log"),
+            std::string::npos);
+
+  // The helpers behind it.
+  const auto truths = ReadGroundTruths(log);
+  ASSERT_EQ(truths.size(), 2u);
+  EXPECT_EQ(TruthExtrinsicAtEnd(truths).from_utime, 5000);
+  EXPECT_EQ(TruthExtrinsicAt(truths, 4999).from_utime, 1000);
+  EXPECT_EQ(TruthExtrinsicAt(truths, 0).from_utime, 1000);  // before the first: the first
+  EXPECT_LT((TruthExtrinsicAt(truths, 7000).T_camera_lidar.matrix() - after.matrix()).norm(), 1e-12);
+}
+
+TEST(Commands, EvaluateRefusesATruthThatIsNotARigidTransform) {
+  const std::string result = TempFile("rigid-est.yaml");
+  WriteResultFile(result, SampleResult());
+  const Eigen::Matrix4d good = SampleResult().T_camera_lidar.matrix();
+  Eigen::Matrix4d scaled = good, nan = good, last_row = good;
+  scaled.topLeftCorner<3, 3>() *= 2.0;
+  nan(1, 2) = std::numeric_limits<double>::quiet_NaN();
+  last_row(3, 0) = 0.5;
+  const std::vector<std::pair<std::string, Eigen::Matrix4d>> bad = {
+      {"zeros", Eigen::Matrix4d::Zero()}, {"scaled", scaled}, {"nan", nan}, {"last_row", last_row}};
+  for (const auto& [name, M] : bad) {
+    SCOPED_TRACE(name);
+    // Bad at the start (the extrinsic compared is the later, good one) and bad at the end: refused both ways.
+    for (const bool bad_first : {true, false}) {
+      const std::string log = TempFile(name + ".lcmlog");
+      WriteTruthLog(log, {{1000, bad_first ? M : good}, {5000, bad_first ? good : M}}, 9000);
+      const std::string out = Evaluate("--result " + result + " --truth " + log, 1)["output"];
+      EXPECT_NE(out.find("not a rigid transform"), std::string::npos) << out;
+      EXPECT_NE(out.find(bad_first ? "utime 1000" : "utime 5000"), std::string::npos) << out;
+      EXPECT_THROW(ReadReferenceExtrinsic(log), std::runtime_error);
+    }
+  }
 }
 
 }  // namespace

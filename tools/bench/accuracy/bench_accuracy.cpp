@@ -159,12 +159,14 @@ int main(int argc, char** argv) {
   const std::string log = argv[1], csv_path = argv[2];
   const int subsets = argc > 3 ? std::atoi(argv[3]) : 10;
   const int max_pairs = argc > 4 ? std::atoi(argv[4]) : 5;
-  const auto truth = ReadGroundTruth(log);
-  if (!truth) {
-    std::cerr << log << ": no GROUND_TRUTH (make it with `fusecal simulate --stations-only`)\n";
+  const auto truths = ReadGroundTruths(log);
+  if (truths.size() != 1) {
+    std::cerr << log << (truths.empty() ? ": no GROUND_TRUTH (make it with `fusecal simulate --stations-only`)\n"
+                                        : ": the camera moves on its mount in this log; the bench needs one extrinsic\n");
     return 1;
   }
-  const Isometry3 X_true = FromRowMajor(truth->T_camera_lidar);
+  const ground_truth_t* truth = &truths.front();
+  const Isometry3 X_true = CheckedTruthExtrinsic(*truth).T_camera_lidar;
   std::map<int, Isometry3> world_lidar;
   for (int k = 0; k < truth->num_stations; ++k) world_lidar[truth->station_id[k]] = FromRowMajor(truth->T_world_lidar[k].data());
 

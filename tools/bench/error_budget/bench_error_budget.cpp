@@ -93,8 +93,11 @@ Session ReadSession(const std::string& path) {
       const auto m = Decode<motion_t>(*e);
       if (m.valid) s.lidar_motions[{m.station_i, m.station_j}] = FromRowMajor(m.T_i_j);
     } else if (e->channel == channels::kGroundTruth) {
-      s.truth = Decode<ground_truth_t>(*e);
-      s.X_true = FromRowMajor(s.truth->T_camera_lidar);
+      const auto truth = Decode<ground_truth_t>(*e);
+      if (s.truth && !std::equal(truth.T_camera_lidar, truth.T_camera_lidar + 16, s.truth->T_camera_lidar))
+        throw LogError(path + ": the camera moves on its mount in this log; the budget needs one extrinsic");
+      s.truth = truth;
+      s.X_true = CheckedTruthExtrinsic(truth).T_camera_lidar;
     } else if (e->channel == channels::kExtrinsic) {
       last = Decode<extrinsic_t>(*e);
     }

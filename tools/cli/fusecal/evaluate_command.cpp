@@ -1,6 +1,9 @@
-// `fusecal evaluate --result RESULT.yaml --truth LOG_OR_YAML`: one JSON line with the error.
+// `fusecal evaluate --result RESULT.yaml --truth LOG_OR_YAML [--at-utime UTIME]`: one JSON line with the
+// error against the extrinsic in force at the log's end (or at UTIME), and the utime it holds from.
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <iostream>
+#include <optional>
 
 #include "commands.hpp"
 #include "foundation/extrinsic_error.hpp"
@@ -26,18 +29,29 @@ Isometry3 CheckedTransform(const Isometry3& T, const std::string& what, const st
 void AddEvaluateCommand(CLI::App& app, int* exit_code) {
   auto* evaluate = app.add_subcommand("evaluate", "error of a result file against the ground truth");
   static std::string result_path, truth_path;
+  static int64_t at_utime = 0;
   evaluate->add_option("--result", result_path, "result file (YAML with T_camera_lidar)")->required();
-  evaluate->add_option("--truth", truth_path, "log with GROUND_TRUTH, or a reference result YAML")->required();
-  evaluate->callback([exit_code] {
+  evaluate->add_option("--truth", truth_path,
+                       "log with GROUND_TRUTH (compared with the extrinsic in force at the log's end; the JSON "
+                       "line gives truth_from_utime, the utime it holds from), or a reference result YAML "
+                       "(no truth_from_utime)")
+      ->required();
+  auto* at_option = evaluate->add_option("--at-utime", at_utime,
+                                         "compare with the log's extrinsic in force at this utime (microseconds) "
+                                         "instead of at its end, for a camera moved on its mount mid-session");
+  evaluate->callback([exit_code, at_option] {
     try {
       const CalibrationResult result = ReadResultFile(result_path);
       const Isometry3 estimate = CheckedTransform(result.T_camera_lidar, "--result", result_path);
-      const Isometry3 truth = CheckedTransform(ReadReferenceExtrinsic(truth_path), "--truth", truth_path);
+      const ReferenceExtrinsic reference =
+          ReadReference(truth_path, at_option->count() ? std::optional<int64_t>(at_utime) : std::nullopt);
+      const Isometry3 truth = CheckedTransform(reference.T_camera_lidar, "--truth", truth_path);
       const ExtrinsicError e = CompareExtrinsics(estimate, truth);
       OrderedJson line{{"rot_err_deg", e.rotation_deg},
                        {"trans_err_m", e.translation_m},
                        {"trans_err_xyz_m", {e.translation_xyz_m.x(), e.translation_xyz_m.y(),
                                             e.translation_xyz_m.z()}}};
+      if (reference.from_utime) line["truth_from_utime"] = *reference.from_utime;
       if (result.unobservable_direction) {
         // Only the part the motions observed (docs/design.md section 1, step 6) can be compared.
         const ObservableError o = CompareObservablePart(estimate, truth, *result.unobservable_direction);
