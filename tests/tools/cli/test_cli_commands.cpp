@@ -78,6 +78,77 @@ TEST(SimulateCommand, BadScenarioNamesTheKeyAndLeavesNoLog) {
   EXPECT_NE(access(log.c_str(), F_OK), 0);
 }
 
+// One log dump line per event of the channels matching `channels`.
+std::vector<nlohmann::json> Dump(const std::string& log, const std::string& channels) {
+  const auto dump = RunCommand(kFusecal + " log dump " + log + " --channel '" + channels + "'");
+  std::vector<nlohmann::json> events;
+  std::istringstream lines(dump.output);
+  for (std::string line; std::getline(lines, line);) events.push_back(nlohmann::json::parse(line));
+  return events;
+}
+
+Eigen::Matrix4d RowMajor(const nlohmann::json& values) {
+  Eigen::Matrix4d M;
+  for (int i = 0; i < 16; ++i) M(i / 4, i % 4) = values[i].get<double>();
+  return M;
+}
+
+// The camera moved on its mount after stop 2 (of 3): GROUND_TRUTH gives both extrinsics, the second
+// from the middle of the motion after stop 2, written there among the frames; evaluate compares with the
+// one in force at the log's end unless --at-utime says otherwise.
+TEST(SimulateCommand, CameraMovedOnItsMountGivesEachExtrinsicAndEvaluatePicksTheOneInForce) {
+  const std::string scenario = Temp("moved.yaml"), log = Temp("moved.lcmlog");
+  std::string text = ReadAll(kScenarios + "/tiny-equirect.yaml");
+  for (const char* key : {"  horizontal: 2\n", "  vertical: 2\n"}) {
+    const auto at = text.find(key);
+    ASSERT_NE(at, std::string::npos) << key;
+    text.replace(at + std::string(key).find('2'), 1, "1");
+  }
+  text += "extrinsic_changes:\n  - after_stop: 2\n    delta_rpy_deg: [1.0, 0, 0]\n    delta_xyz_m: [0.02, 0, 0]\n";
+  std::ofstream(scenario) << text;
+  const auto simulated = RunCommand(kFusecal + " simulate --scenario " + scenario + " --out " + log + " 2>&1");
+  ASSERT_EQ(simulated.exit_code, 0) << simulated.output;
+
+  const auto truths = Dump(log, "GROUND_TRUTH");
+  ASSERT_EQ(truths.size(), 2u);
+  const auto& first = truths[0]["msg"];
+  const auto& second = truths[1]["msg"];
+  ASSERT_EQ(first["num_stations"], 3);
+  const int64_t start = first["utime"], changed = second["utime"];
+  EXPECT_EQ(start, first["still_from_utime"][0].get<int64_t>());
+  EXPECT_EQ(truths[1]["utime"].get<int64_t>(), changed);
+  const int64_t stop2_end = first["still_to_utime"][1], stop3_start = first["still_from_utime"][2];
+  EXPECT_NEAR(changed, (stop2_end + stop3_start) / 2, 1);
+  EXPECT_EQ(second["still_from_utime"], first["still_from_utime"]);
+  const Eigen::Matrix4d delta = MakeIsometry(RotationFromRpy(M_PI / 180, 0, 0), {0.02, 0, 0}).matrix();
+  EXPECT_LT((RowMajor(second["T_camera_lidar"]) - RowMajor(first["T_camera_lidar"]) * delta).norm(), 1e-12);
+  // Written when it takes effect: every frame before it is older, every frame after it is not.
+  int64_t previous = 0;
+  for (const auto& event : Dump(log, "CAMERA_IMAGE|LIDAR_SCAN|GROUND_TRUTH")) {
+    const int64_t utime = event["utime"];
+    EXPECT_GE(utime, previous) << event["channel"];
+    previous = utime;
+  }
+
+  const std::string result = Temp("moved-result.yaml");
+  CalibrationResult r;
+  r.T_camera_lidar.matrix() = RowMajor(second["T_camera_lidar"]);
+  WriteResultFile(result, r);
+  const std::string evaluate = kFusecal + " evaluate --result " + result + " --truth " + log;
+  const auto at_end = RunCommand(evaluate);
+  ASSERT_EQ(at_end.exit_code, 0) << at_end.output;
+  const auto end = nlohmann::json::parse(at_end.output);
+  EXPECT_LT(end["rot_err_deg"].get<double>(), 1e-6);
+  EXPECT_LT(end["trans_err_m"].get<double>(), 1e-9);
+  EXPECT_EQ(end["truth_from_utime"].get<int64_t>(), changed);
+  const auto at_start = RunCommand(evaluate + " --at-utime " + std::to_string(stop2_end));
+  ASSERT_EQ(at_start.exit_code, 0) << at_start.output;
+  const auto before = nlohmann::json::parse(at_start.output);
+  EXPECT_NEAR(before["rot_err_deg"].get<double>(), 1.0, 1e-6);
+  EXPECT_NEAR(before["trans_err_m"].get<double>(), 0.02, 1e-9);
+  EXPECT_EQ(before["truth_from_utime"].get<int64_t>(), start);
+}
+
 void WriteCsv(const std::string& path, const std::vector<MotionPair>& pairs, const std::string& extra_lines = "") {
   std::ofstream out(path);
   out.precision(17);

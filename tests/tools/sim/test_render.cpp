@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -261,6 +262,61 @@ TEST(SimRender, StationsAreGroundTruth) {
     EXPECT_TRUE(e.lidar.T_world_lidar.isApprox(st.T_world_lidar, 0.0));
   }
   EXPECT_GE(still_scans, 5 * 8);
+}
+
+// The camera moved on its mount after stops 1 and 2: each image is the one of an unchanged scenario
+// with the extrinsic in force at its time (before, between and after the changes, still and moving);
+// the LiDAR does not move.
+TEST(SimRender, CameraMovedOnItsMountIsRenderedWithTheExtrinsicInForce) {
+  Scenario s = LoadScenario(test::ScenarioPath("tiny-equirect.yaml"));
+  s.motions.horizontal = 1;
+  s.motions.vertical = 1;
+  const Isometry3 delta_a = MakeIsometry(RotationFromRpy(0.02, 0, 0), {0.02, 0, 0});
+  const Isometry3 delta_b = MakeIsometry(RotationFromRpy(0, -0.03, 0.01), {0, 0, 0.05});
+  s.extrinsic_changes = {{1, delta_a}, {2, delta_b}};
+  Simulation sim(s);
+  const auto& epochs = sim.extrinsics();
+  ASSERT_EQ(epochs.size(), 3u);
+  EXPECT_EQ(epochs[0].from_utime, s.start_utime);
+  EXPECT_TRUE(epochs[1].T_camera_lidar.isApprox(s.T_camera_lidar * delta_a, 1e-12));
+  EXPECT_TRUE(epochs[2].T_camera_lidar.isApprox(s.T_camera_lidar * delta_a * delta_b, 1e-12));
+  const auto stations = sim.Stations();
+  ASSERT_EQ(stations.size(), 3u);
+  for (size_t k = 1; k < 3; ++k) {  // in the middle of the motion after stop k
+    EXPECT_NEAR(epochs[k].from_utime, (stations[k - 1].still_to_utime + stations[k].still_from_utime) / 2, 1) << k;
+    EXPECT_EQ(epochs[k].after_stop, static_cast<int>(k));
+  }
+  for (size_t k = 0; k < 3; ++k)
+    EXPECT_TRUE(stations[k].T_world_camera.isApprox(stations[k].T_world_lidar * epochs[k].T_camera_lidar.inverse(),
+                                                    1e-12));
+
+  std::vector<std::unique_ptr<Simulation>> unchanged;  // one per extrinsic
+  for (const auto& epoch : epochs) {
+    Scenario fixed = s;
+    fixed.extrinsic_changes.clear();
+    fixed.T_camera_lidar = epoch.T_camera_lidar;
+    unchanged.push_back(std::make_unique<Simulation>(fixed));
+  }
+  std::vector<int> frames = {2};  // a still frame at the first station, then around each change and after it
+  for (size_t k = 1; k < 3; ++k) {
+    const auto& times = sim.camera_times();
+    const int first = static_cast<int>(
+        std::lower_bound(times.begin(), times.end(), epochs[k].from_utime - s.start_utime) - times.begin());
+    ASSERT_GT(first, 0);
+    frames.insert(frames.end(), {first - 1, first, first + 12});
+  }
+  for (int index : frames) {
+    const CameraFrame f = sim.RenderCameraFrame(index);
+    size_t in_force = 0;
+    while (in_force + 1 < epochs.size() && epochs[in_force + 1].from_utime <= f.utime) ++in_force;
+    for (size_t k = 0; k < epochs.size(); ++k)
+      EXPECT_EQ(SameBytes(f.image, unchanged[k]->RenderCameraFrame(index).image), k == in_force)
+          << "camera frame " << index << ", extrinsic " << k;
+    EXPECT_TRUE(f.T_world_camera.isApprox(unchanged[in_force]->RenderCameraFrame(index).T_world_camera, 1e-12));
+  }
+  EXPECT_EQ(sim.RenderCameraFrame(frames.back()).station_id, 2);
+  for (int index : {5, 20, 40})
+    EXPECT_TRUE(SameScan(sim.RenderLidarFrame(index).scan, unchanged[0]->RenderLidarFrame(index).scan)) << index;
 }
 
 }  // namespace

@@ -135,6 +135,48 @@ TEST_F(SimBadScenario, PinholeNeedsFocalLength) {
   ExpectErrorNaming(Replace(base_, "  model: equirectangular\n", "  model: pinhole\n"), "camera.fx");
 }
 
+TEST_F(SimBadScenario, ExtrinsicChangesParse) {
+  EXPECT_TRUE(LoadText(base_).extrinsic_changes.empty());
+  const Scenario s = LoadText(base_ +
+                              "extrinsic_changes:\n"
+                              "  - after_stop: 2\n"
+                              "    delta_rpy_deg: [1.0, 0, 0]\n"
+                              "    delta_xyz_m: [0.02, 0, 0]\n"
+                              "  - {after_stop: 4, delta_rpy_deg: [0, 0, -2], delta_xyz_m: [0, 0, 0.01]}\n");
+  ASSERT_EQ(s.extrinsic_changes.size(), 2u);
+  EXPECT_EQ(s.extrinsic_changes[0].after_stop, 2);
+  EXPECT_EQ(s.extrinsic_changes[1].after_stop, 4);  // tiny: 5 stops, the 4th is the last with a motion after it
+  EXPECT_TRUE(s.extrinsic_changes[0].delta.isApprox(MakeIsometry(RotationFromRpy(M_PI / 180, 0, 0), {0.02, 0, 0}),
+                                                    1e-12));
+  EXPECT_NEAR(s.extrinsic_changes[1].delta.translation().z(), 0.01, 1e-15);
+  EXPECT_NEAR(RpyFromRotation(s.extrinsic_changes[1].delta.linear()).z(), -2 * M_PI / 180, 1e-12);
+}
+
+TEST_F(SimBadScenario, BadExtrinsicChanges) {
+  const auto change = [&](const std::string& entries) { return base_ + "extrinsic_changes:\n" + entries; };
+  const std::string ok = "  - {after_stop: 1, delta_rpy_deg: [1, 0, 0], delta_xyz_m: [0, 0, 0]}\n";
+  for (const char* stop : {"0", "5", "-1"})  // tiny has 5 stops: no motion after the 5th
+    ExpectErrorNaming(change("  - {after_stop: " + std::string(stop) + ", delta_rpy_deg: [1, 0, 0], "
+                             "delta_xyz_m: [0, 0, 0]}\n"),
+                      "extrinsic_changes[0].after_stop");
+  ExpectErrorNaming(change(ok + ok), "extrinsic_changes[1].after_stop");  // two at one stop
+  ExpectErrorNaming(change("  - {after_stop: 3, delta_rpy_deg: [1, 0, 0], delta_xyz_m: [0, 0, 0]}\n" + ok),
+                    "extrinsic_changes[1].after_stop");  // out of order
+  ExpectErrorNaming(change("  - {after_stop: 1.5, delta_rpy_deg: [1, 0, 0], delta_xyz_m: [0, 0, 0]}\n"),
+                    "extrinsic_changes[0].after_stop");
+  ExpectErrorNaming(change("  - {after_stop: 1, delta_rpy_deg: [1, .nan, 0], delta_xyz_m: [0, 0, 0]}\n"),
+                    "extrinsic_changes[0].delta_rpy_deg");
+  ExpectErrorNaming(change("  - {after_stop: 1, delta_rpy_deg: [1, 0, 0], delta_xyz_m: [0, .inf, 0]}\n"),
+                    "extrinsic_changes[0].delta_xyz_m");
+  ExpectErrorNaming(change("  - {after_stop: 1, delta_rpy_deg: [1, 0], delta_xyz_m: [0, 0, 0]}\n"),
+                    "extrinsic_changes[0].delta_rpy_deg");
+  ExpectErrorNaming(change("  - {after_stop: 1, delta_rpy_deg: [1, 0, 0]}\n"), "extrinsic_changes[0].delta_xyz_m");
+  ExpectErrorNaming(change(ok + "  - {after_stop: 2, delta_rpy_deg: [1, 0, 0], delta_xyz_m: [0, 0, 0], when: 3}\n"),
+                    "extrinsic_changes[1].when");
+  ExpectErrorNaming(change("  - 4\n"), "extrinsic_changes[0]");
+  ExpectErrorNaming(base_ + "extrinsic_changes: {after_stop: 1}\n", "extrinsic_changes");
+}
+
 TEST(SimScenario, MissingFileIsConfigError) {
   EXPECT_THROW(LoadScenario(testing::TempDir() + "/no-such-scenario.yaml"), ConfigError);
 }

@@ -1,11 +1,14 @@
 // `fusecal simulate --scenario FILE.yaml --out LOG [--seed N] [--stations-only]`: a standard LCM log with
 // CAMERA_IMAGE and LIDAR_SCAN streams, CAMERA_INFO and GROUND_TRUTH; with --stations-only, one STATION
 // per still interval instead of the streams (for testing stages without the stationarity detector).
+// GROUND_TRUTH: one message per extrinsic (more than one when the scenario moves the camera on its
+// mount), each written at the utime from which it holds.
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 
 #include "commands.hpp"
 #include "fusecal/ground_truth_t.hpp"
@@ -32,11 +35,15 @@ PointCloud ToCloud(const sim::SimulatedScan& scan) {
   return cloud;
 }
 
-ground_truth_t MakeGroundTruth(sim::Simulation& sim, int64_t utime) {
+// The truth with the extrinsic that holds from epoch.from_utime.
+ground_truth_t MakeGroundTruth(sim::Simulation& sim, const sim::ExtrinsicEpoch& epoch) {
+  const int64_t utime = epoch.from_utime;
   ground_truth_t truth{};
   truth.utime = utime;
   truth.source = "simulation: scenario " + sim.scenario().name + ", seed " + std::to_string(sim.scenario().seed);
-  ToRowMajor(sim.T_camera_lidar(), truth.T_camera_lidar);
+  if (epoch.after_stop > 0)
+    truth.source += ", camera moved on its mount after stop " + std::to_string(epoch.after_stop);
+  ToRowMajor(epoch.T_camera_lidar, truth.T_camera_lidar);
   truth.camera = CameraToMsg(sim.camera().params(), utime);
   for (const auto& s : sim.Stations()) {
     truth.station_id.push_back(s.id);
@@ -59,6 +66,23 @@ int NearestFrame(const std::vector<int64_t>& times, int64_t start, int64_t from,
   return best;
 }
 
+// Writes the GROUND_TRUTH messages that hold from `utime` or earlier and are not written yet.
+class TruthWriter {
+ public:
+  TruthWriter(sim::Simulation& sim, LogWriter& writer) : sim_(sim), writer_(writer) {}
+  void WriteUpTo(int64_t utime) {
+    const auto& epochs = sim_.extrinsics();
+    for (; next_ < epochs.size() && epochs[next_].from_utime <= utime; ++next_)
+      writer_.WriteMessage(channels::kGroundTruth, epochs[next_].from_utime, MakeGroundTruth(sim_, epochs[next_]));
+  }
+  void WriteRest() { WriteUpTo(std::numeric_limits<int64_t>::max()); }
+
+ private:
+  sim::Simulation& sim_;
+  LogWriter& writer_;
+  size_t next_ = 0;
+};
+
 void Simulate(const std::string& scenario_path, const std::string& out, std::optional<uint64_t> seed,
               bool stations_only, const std::string& encoding) {
   CheckReplaceableOutput(out);
@@ -70,7 +94,8 @@ void Simulate(const std::string& scenario_path, const std::string& out, std::opt
   LogWriter writer(partial);
   const int64_t t0 = scenario.start_utime;
   writer.WriteMessage(channels::kCameraInfo, t0, CameraToMsg(sim.camera().params(), t0));
-  writer.WriteMessage(channels::kGroundTruth, t0, MakeGroundTruth(sim, t0));
+  TruthWriter truths(sim, writer);
+  truths.WriteUpTo(t0);
   int written = 0;
   if (stations_only) {
     const auto stations = sim.Stations();
@@ -86,6 +111,7 @@ void Simulate(const std::string& scenario_path, const std::string& out, std::opt
       station.image = MatToImage(camera.image, encoding, camera.utime);
       station.cloud = CloudToMsg(ToCloud(lidar.scan), lidar.utime);
       station.camera = CameraToMsg(sim.camera().params(), camera.utime);
+      truths.WriteUpTo(station.utime);
       writer.WriteMessage(channels::kStation, station.utime, station);
       progress(++written, static_cast<int>(stations.size()));
     }
@@ -93,6 +119,7 @@ void Simulate(const std::string& scenario_path, const std::string& out, std::opt
     ProgressLine progress("simulating " + std::to_string(sim.num_events()) + " frames");
     sim::Event event;
     while (sim.Next(&event)) {
+      truths.WriteUpTo(event.utime);
       if (event.type == sim::Event::Type::kCamera)
         writer.WriteMessage(channels::kCameraImage, event.utime, MatToImage(event.camera.image, encoding, event.utime));
       else
@@ -100,6 +127,7 @@ void Simulate(const std::string& scenario_path, const std::string& out, std::opt
       progress(++written, static_cast<int>(sim.num_events()));
     }
   }
+  truths.WriteRest();
   writer.Close();
   CheckReplaceableOutput(out);
   std::filesystem::rename(partial, out);

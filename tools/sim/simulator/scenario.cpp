@@ -56,6 +56,12 @@ Check<Vec> RangePair(double hi) {
 
 Eigen::Vector3d ToVector3(const Vec& v) { return {v[0], v[1], v[2]}; }
 
+// Roll, pitch, yaw in degrees and a translation as in extrinsic.rpy_deg and xyz_m.
+Isometry3 FromRpyXyz(const Vec& rpy_deg, const Vec& xyz) {
+  const double d2r = M_PI / 180.0;
+  return MakeIsometry(RotationFromRpy(rpy_deg[0] * d2r, rpy_deg[1] * d2r, rpy_deg[2] * d2r), ToVector3(xyz));
+}
+
 void ReadCamera(ConfigReader r, CameraSettings* cam) {
   CameraParams& p = cam->params;
   r.Require("model", &p.model, OneOf({"pinhole", "equirectangular"}));
@@ -129,8 +135,30 @@ void ReadExtrinsic(ConfigReader r, Isometry3* T) {
   r.Require("xyz_m", &xyz, SizeIs(3));
   r.Require("rpy_deg", &rpy, SizeIs(3));
   r.Finish();
-  const double d2r = M_PI / 180.0;
-  *T = MakeIsometry(RotationFromRpy(rpy[0] * d2r, rpy[1] * d2r, rpy[2] * d2r), ToVector3(xyz));
+  *T = FromRpyXyz(rpy, xyz);
+}
+
+// extrinsic_changes: a list of {after_stop, delta_rpy_deg, delta_xyz_m}; a change needs a motion after
+// its stop, and the stops increase.
+void ReadExtrinsicChanges(ConfigReader& r, const MotionParams& m, std::vector<ExtrinsicChange>* changes) {
+  const int stops = m.horizontal + m.vertical + 1;
+  for (ConfigReader item : r.Items("extrinsic_changes")) {
+    ExtrinsicChange c;
+    item.Require("after_stop", &c.after_stop, Check<int>([stops](const int& v) {
+                   if (v >= 1 && v <= stops - 1) return std::string();
+                   return "must be in [1, " + std::to_string(stops - 1) + "]: a stop (counted from 1) with a " +
+                          "motion after it, of the scenario's " + std::to_string(stops) + " stops";
+                 }));
+    if (!changes->empty() && c.after_stop <= changes->back().after_stop)
+      item.Fail("after_stop", "must exceed the previous change's after_stop (" +
+                                  std::to_string(changes->back().after_stop) + "): one change per stop, in order");
+    Vec rpy, xyz;
+    item.Require("delta_rpy_deg", &rpy, SizeIs(3));
+    item.Require("delta_xyz_m", &xyz, SizeIs(3));
+    item.Finish();
+    c.delta = FromRpyXyz(rpy, xyz);
+    changes->push_back(c);
+  }
 }
 
 void ReadMotions(ConfigReader r, MotionParams* m) {
@@ -195,6 +223,7 @@ Scenario Read(ConfigReader r, const std::string& name) {
   ReadRig(r.Child("rig"), &s);
   ReadMotions(r.Child("motions"), &s.motions);
   ReadNoise(r.Child("noise"), &s.noise, &s.lidar);
+  ReadExtrinsicChanges(r, s.motions, &s.extrinsic_changes);
   r.Finish();
   return s;
 }

@@ -80,6 +80,13 @@ struct NoiseParams {
   double exposure_sigma = 0.0;  // per-frame gain = exp(sigma * N(0, 1))
 };
 
+// The camera moved on its mount during a session: from the middle of the motion after stop after_stop
+// (stops counted from 1) the extrinsic is the previous one times delta, delta in the LiDAR frame.
+struct ExtrinsicChange {
+  int after_stop = 1;
+  Isometry3 delta = Isometry3::Identity();
+};
+
 struct Scenario {
   std::string name;  // file stem, for messages
   uint64_t seed = 1;
@@ -87,7 +94,8 @@ struct Scenario {
   int64_t start_utime = 1700000000000000;
   CameraSettings camera;
   LidarParams lidar;
-  Isometry3 T_camera_lidar = Isometry3::Identity();
+  Isometry3 T_camera_lidar = Isometry3::Identity();  // at the start
+  std::vector<ExtrinsicChange> extrinsic_changes;     // in order of after_stop, one per stop at most
   Eigen::Vector3d rig_position_m{0.4, 0.3, 1.5};  // LiDAR origin at the start, world frame (z up)
   double rig_yaw_deg = 10.0;
   MotionParams motions;

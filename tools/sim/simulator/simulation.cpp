@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 #include "simulator/random.hpp"
 #include "simulator/render.hpp"
@@ -24,6 +25,21 @@ std::vector<int64_t> SampleTimes(double phase_s, double rate_hz, double duration
   return out;
 }
 
+// The extrinsic at the start, then one per change, from the middle of the motion after its stop.
+std::vector<ExtrinsicEpoch> Extrinsics(const Scenario& scenario, const Trajectory& trajectory) {
+  std::vector<ExtrinsicEpoch> out{{scenario.start_utime, scenario.T_camera_lidar, 0}};
+  for (const ExtrinsicChange& c : scenario.extrinsic_changes) {
+    if (c.after_stop < 1 || c.after_stop > static_cast<int>(trajectory.motions().size()) ||
+        c.after_stop <= out.back().after_stop)
+      throw std::invalid_argument("Simulation: extrinsic change after stop " + std::to_string(c.after_stop) +
+                                  " has no motion after it, or is out of order");
+    const Motion& m = trajectory.motions()[c.after_stop - 1];
+    const int64_t from = scenario.start_utime + std::llround(0.5 * (m.t_from + m.t_to) * 1e6);
+    out.push_back({from, out.back().T_camera_lidar * c.delta, c.after_stop});
+  }
+  return out;
+}
+
 }  // namespace
 
 Simulation::Simulation(const Scenario& scenario, const std::string& texture_dir, int threads)
@@ -33,6 +49,7 @@ Simulation::Simulation(const Scenario& scenario, const std::string& texture_dir,
       camera_(MakeCameraModel(scenario.camera.params)),
       lidar_(scenario.lidar),
       threads_(threads) {
+  extrinsics_ = Extrinsics(scenario_, trajectory_);
   const double duration = trajectory_.duration();
   camera_times_ = SampleTimes(scenario_.camera.phase_s, scenario_.camera.rate_hz, duration);
   lidar_times_ = SampleTimes(scenario_.lidar.phase_s, scenario_.lidar.rate_hz, duration);
@@ -50,16 +67,23 @@ Simulation::Simulation(const Scenario& scenario, const std::string& texture_dir,
 int64_t Simulation::ToUtime(double t) const { return scenario_.start_utime + std::llround(t * 1e6); }
 double Simulation::ToSeconds(int64_t utime) const { return (utime - scenario_.start_utime) * 1e-6; }
 
+const Isometry3& Simulation::T_camera_lidar_at(int64_t utime) const {
+  size_t k = 0;
+  while (k + 1 < extrinsics_.size() && extrinsics_[k + 1].from_utime <= utime) ++k;
+  return extrinsics_[k].T_camera_lidar;
+}
+
 Isometry3 Simulation::T_world_camera(double t) const {
-  return trajectory_.T_world_lidar(t) * scenario_.T_camera_lidar.inverse();
+  return trajectory_.T_world_lidar(t) * T_camera_lidar_at(ToUtime(t)).inverse();
 }
 
 std::vector<Station> Simulation::Stations() const {
   std::vector<Station> out;
-  const Isometry3 T_lidar_camera = scenario_.T_camera_lidar.inverse();
-  for (const auto& s : trajectory_.stills())
-    out.push_back({s.station_id, ToUtime(s.t_from), ToUtime(s.t_to), s.T_world_lidar,
-                   s.T_world_lidar * T_lidar_camera});
+  for (const auto& s : trajectory_.stills()) {
+    const int64_t from = ToUtime(s.t_from);
+    out.push_back({s.station_id, from, ToUtime(s.t_to), s.T_world_lidar,
+                   s.T_world_lidar * T_camera_lidar_at(from).inverse()});
+  }
   return out;
 }
 
@@ -80,7 +104,7 @@ CameraFrame Simulation::RenderCameraFrame(int index) {
   f.index = index;
   f.utime = scenario_.start_utime + camera_times_.at(index);
   const double t = camera_times_[index] * 1e-6;
-  f.T_world_camera = T_world_camera(t);
+  f.T_world_camera = trajectory_.T_world_lidar(t) * T_camera_lidar_at(f.utime).inverse();
   f.station_id = trajectory_.StillStation(t, t);
   const uint64_t seed = MixSeed(MixSeed(scenario_.seed, kCameraStream), static_cast<uint64_t>(index));
   cv::Mat clean;

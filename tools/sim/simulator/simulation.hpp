@@ -1,5 +1,7 @@
 // A whole simulated recording: the time-ordered camera images and LiDAR scans of a scenario, produced
-// lazily, plus the ground truth (stations, trajectory, extrinsic).
+// lazily, plus the ground truth (stations, trajectory, extrinsics). With scenario.extrinsic_changes the
+// camera moves on its mount in the middle of the motion after each listed stop: images from that instant
+// on are rendered with the new extrinsic; the LiDAR's trajectory stays the same.
 //
 // Determinism: frame k of a sensor uses the seed MixSeed(MixSeed(scenario.seed, sensor), k), so its bytes
 // depend only on the scenario, never on thread count or on which frames were produced before.
@@ -31,6 +33,13 @@ struct Station {
   int64_t still_from_utime, still_to_utime;
   Isometry3 T_world_lidar;
   Isometry3 T_world_camera;
+};
+
+// An extrinsic of the recording and the utime from which it holds (until the next one's).
+struct ExtrinsicEpoch {
+  int64_t from_utime;
+  Isometry3 T_camera_lidar;
+  int after_stop;  // the change's stop (counted from 1); 0 for the extrinsic at the start
 };
 
 struct CameraFrame {
@@ -78,8 +87,11 @@ class Simulation {
 
   // Ground truth.
   std::vector<Station> Stations() const;
-  const Isometry3& T_camera_lidar() const { return scenario_.T_camera_lidar; }
-  Isometry3 T_world_camera(double t) const;  // t: seconds since the start
+  const Isometry3& T_camera_lidar() const { return extrinsics_.front().T_camera_lidar; }  // at the start
+  // Every extrinsic in time order, the first from scenario.start_utime, one more per extrinsic change.
+  const std::vector<ExtrinsicEpoch>& extrinsics() const { return extrinsics_; }
+  const Isometry3& T_camera_lidar_at(int64_t utime) const;  // the one in force at utime
+  Isometry3 T_world_camera(double t) const;                 // t: seconds since the start
 
   const Scenario& scenario() const { return scenario_; }
   const Scene& scene() const { return scene_; }
@@ -103,6 +115,7 @@ class Simulation {
   std::unique_ptr<CameraModel> camera_;
   LidarSensor lidar_;
   int threads_;
+  std::vector<ExtrinsicEpoch> extrinsics_;
   std::vector<int64_t> camera_times_, lidar_times_;
   std::vector<Scheduled> schedule_;
   size_t next_ = 0;
