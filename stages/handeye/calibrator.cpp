@@ -47,6 +47,8 @@ std::string CalibratorSettings::Validate() const {
   if (!NonNegative(retry_s)) return "retry_s: must not be negative";
   if (max_motions < std::max(2, solver.min_pairs) || max_motions > 100000)
     return "max_motions: must be in [min_pairs, 100000] (min_pairs is " + std::to_string(solver.min_pairs) + ")";
+  const std::string change_problem = change_detection.Validate();
+  if (!change_problem.empty()) return "change_detection." + change_problem;
   const std::string solver_problem = solver.Validate();
   return solver_problem.empty() ? solver_problem : "solver." + solver_problem;
 }
@@ -54,6 +56,10 @@ std::string CalibratorSettings::Validate() const {
 std::vector<CalibrationVersion> Calibrator::OnMotion(const SensorMotion& motion, int64_t now_utime) {
   const StationPair key = KeyOf(motion);
   if (dropped_.count(key)) return {};  // a repeat (after a restart) of a pair dropped for good
+  if (segment_after_ && motion.station_i <= *segment_after_) {
+    Drop(key);  // late news from before a change
+    return {};
+  }
   const bool camera = motion.sensor == SensorMotion::Sensor::kCamera;
   auto& store = camera ? camera_motions_ : lidar_motions_;
   const bool known = store.count(key) > 0;
@@ -64,6 +70,50 @@ std::vector<CalibrationVersion> Calibrator::OnMotion(const SensorMotion& motion,
   const auto other = others.find(key);
   if (other == others.end() || !other->second.valid) return {};
   LimitPairs();
+  // The new pair's rotation is tested as it comes (also when the solve will reject it as an outlier).
+  if (const auto change = DetectChange(ScalelessPairs())) return StartAfterChange(change->first, change->second, now_utime);
+  return StartRound(now_utime);
+}
+
+std::optional<StationPair> Calibrator::DetectChange(std::vector<MotionPair> pairs) {
+  std::sort(pairs.begin(), pairs.end(), [](const MotionPair& a, const MotionPair& b) {
+    return std::make_pair(a.station_j, a.station_i) < std::make_pair(b.station_j, b.station_i);
+  });
+  for (const MotionPair& p : pairs) {
+    auto& tested = p.camera_scaled ? tested_metric_ : tested_scaleless_;
+    if (!tested.insert({p.station_i, p.station_j}).second) continue;
+    // The reference: a scaled estimate from before these pairs (or, without fusion odometry, the scaleless
+    // one), kept from before the first off pair while the newest pairs hold one.
+    const bool testable = current_ && current_->usable() && (current_->scaled || !settings_.scaled_refinement);
+    if (testable && !detector_.Suspicious()) reference_ = current_;
+    if (!reference_) continue;
+    const PairTest test = TestPair(p, *reference_, settings_.solver, settings_.change_detection);
+    if (const auto after = detector_.Add(test)) return StationPair{*after, p.station_j};
+  }
+  return std::nullopt;
+}
+
+void Calibrator::Drop(const StationPair& key) {
+  camera_motions_.erase(key);
+  lidar_motions_.erase(key);
+  if (dropped_.insert(key).second) dropped_since_version_.push_back(key);
+}
+
+std::vector<CalibrationVersion> Calibrator::StartAfterChange(int after_station, int decided_at_station,
+                                                             int64_t now_utime) {
+  changes_.push_back({after_station, decided_at_station, reference_->T_camera_lidar, reference_->covariance});
+  segment_after_ = after_station;
+  std::set<StationPair> past;
+  for (const auto* store : {&camera_motions_, &lidar_motions_})
+    for (const auto& [key, motion] : *store)
+      if (key.first <= after_station) past.insert(key);
+  for (const StationPair& key : past) Drop(key);
+  current_.reset();
+  initial_.reset();
+  reference_.reset();
+  detector_.Reset();
+  note_ = "extrinsic changed after station " + std::to_string(after_station) + " (decided at station " +
+          std::to_string(decided_at_station) + "); solving again from the motions after it";
   return StartRound(now_utime);
 }
 
@@ -149,6 +199,7 @@ std::vector<CalibrationVersion> Calibrator::OnFusedMotions(int version, const st
     MotionPair p;
     if (m.scaled && PairWithLidar(m, &p)) pairs.push_back(p);
   }
+  if (const auto change = DetectChange(pairs)) return StartAfterChange(change->first, change->second, now_utime);
   HandEyeSettings solver = settings_.solver;
   if (current_->scaled && current_->usable()) solver.previous_verdict = current_->observability;
   HandEyeResult result = SolveScaled(pairs, solver, &current_->T_camera_lidar);
@@ -194,6 +245,11 @@ CalibrationVersion Calibrator::MakeVersion(const HandEyeResult& result, VersionS
   v.iteration = iteration_;
   v.change_rotation_rad = change.rotation_rad;
   v.change_translation_m = change.translation_m;
+  v.changes = changes_;
+  if (!note_.empty()) {
+    v.result.message = v.result.message.empty() ? note_ : note_ + "; " + v.result.message;
+    note_.clear();
+  }
   // A request lists the pairs fusion odometry is to compute: all that the newest scaleless solve used.
   const HandEyeResult& used_by = v.asks() && initial_ ? *initial_ : result;
   for (const auto& p : used_by.used_pairs) v.used.push_back({p.station_i, p.station_j});

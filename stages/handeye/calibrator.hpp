@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "handeye/change_detection.hpp"
 #include "handeye/handeye_solver.hpp"
 
 namespace fusecal {
@@ -37,6 +38,7 @@ struct CalibratorSettings {
   bool scaled_refinement = true;  // false: stop at the scaleless estimate
   int max_motions = 40;           // motion pairs held at most (>= solver.min_pairs)
   HandEyeSettings solver;
+  ChangeDetectionSettings change_detection;
 
   // Empty when usable, else what is wrong: a field above (tolerances > 0, max_iterations in [1, 1000],
   // retry_s >= 0), or solver.Validate()'s message after "solver." (both have a max_iterations).
@@ -71,6 +73,14 @@ const char* Name(VersionStatus status);
 
 using StationPair = std::pair<int, int>;  // (station_i, station_j) of a motion
 
+// A change of the extrinsic the loop detected (handeye/change_detection.hpp).
+struct ExtrinsicChange {
+  int after_station = -1;        // the last station before the change
+  int decided_at_station = -1;   // station_j of the pair that decided it
+  Isometry3 T_before = Isometry3::Identity();  // the estimate in force until then, and its covariance
+  Matrix6 covariance_before = Matrix6::Zero();
+};
+
 // One version of the extrinsic.
 struct CalibrationVersion {
   int version = 0;  // 1, 2, ... in the order produced; a repeated request keeps its version
@@ -82,6 +92,7 @@ struct CalibrationVersion {
   double change_translation_m = 0;
   std::vector<StationPair> used;      // used by the solve; for a request, the pairs asked for
   std::vector<StationPair> not_used;  // every other held pair, and those dropped since the last version
+  std::vector<ExtrinsicChange> changes;  // every change detected in the session so far, oldest first
   bool asks() const { return status == VersionStatus::kRefining; }
   bool converged() const { return status == VersionStatus::kConverged; }
 };
@@ -116,6 +127,7 @@ class Calibrator {
   int retries() const { return retries_; }
   int version() const { return version_; }
   int iteration() const { return iteration_; }
+  const std::vector<ExtrinsicChange>& changes() const { return changes_; }
 
  private:
   struct Change {
@@ -132,6 +144,12 @@ class Calibrator {
   void LimitPairs();
   // Every held pair that `version` neither uses nor lists yet, and those dropped since the last version.
   void ListHeldPairs(CalibrationVersion* version) const;
+  // Tests the pairs no solve has taken yet against the current estimate; the station after which the
+  // extrinsic changed when the detector decides. Every pair is tested once.
+  std::optional<StationPair> DetectChange(std::vector<MotionPair> pairs);  // (after_station, decided_at)
+  // Leaves the pairs before the change (and the one across it) out for good and starts again from the rest.
+  std::vector<CalibrationVersion> StartAfterChange(int after_station, int decided_at_station, int64_t now_utime);
+  void Drop(const StationPair& key);
 
   CalibratorSettings settings_;
   std::map<StationPair, SensorMotion> camera_motions_, lidar_motions_;
@@ -146,6 +164,14 @@ class Calibrator {
   bool converged_ = false;
   int retries_ = 0;
   std::string state_ = "waiting for motions";
+  ChangeDetector detector_{settings_.change_detection};
+  // Pairs tested (or taken by a solve before there was an estimate to test them against), by the kind of
+  // their camera motion: scaleless on arrival, metric in fusion odometry's answer.
+  std::set<StationPair> tested_scaleless_, tested_metric_;
+  std::optional<HandEyeResult> reference_;  // what new pairs are tested against
+  std::vector<ExtrinsicChange> changes_;
+  std::optional<int> segment_after_;  // pairs that start at or before this station belong to the past
+  std::string note_;                  // said in the next version's message (a change)
 };
 
 }  // namespace fusecal

@@ -1,0 +1,93 @@
+// Detecting that the extrinsic changed mid-session (a sensor knocked on its mount) from the motion pairs.
+//
+// Test of one pair. A new pair (A, B) is compared with the current estimate X = (R, t) before it enters a
+// solve: its residual r = [Log(R_b^T R^T R_a R) ; (R_a - I) t + s t_a - R t_b] (the paper's A X = X B,
+// handeye/pair_model.hpp) has, if X still holds, the covariance
+//   C = J_A S_A J_A^T + J_B S_B J_B^T + J_X S_X J_X^T
+// (the pair's own noise at the noise the estimate's residuals show, and the estimate's covariance S_X), so
+//   d^2 = r^T C^-1 r  ~  chi^2(k),   k = 6 for a metric camera motion, 3 (rotation only) for a scaleless one.
+// The pair is "off" when d^2 exceeds the chi^2 quantile 1 - alpha (alpha = off_probability).
+//
+// Each pair is tested twice: on arrival with its scaleless camera motion (rotation only; also a pair the
+// solve will reject as an outlier is tested), and with the metric camera motion fusion odometry gives for
+// it (all six). It is off when either test is. While the newest pairs hold an off pair, they are tested
+// against the estimate from before it (the reference), so that pairs after a change do not pull the
+// estimate they are tested against.
+//
+// Rule (a change, not an outlier). A change makes the pair across it off (the pair that spans the change
+// mixes both extrinsics, A = X B X'^-1, and shows the whole change whatever its turn), and the pairs after
+// it all fit one other extrinsic X Exp(delta). So the extrinsic changed after station_i of an off pair of
+// the newest `window` when the pairs after it, together, reject delta = 0: with whitened residuals w_i
+// and Jacobians G_i (d w_i / d delta) of those pairs, the generalised likelihood ratio
+//   lambda = g^T H^+ g,   g = sum G_i^T w_i,   H = sum G_i^T G_i,
+// exceeds the chi^2 quantile 1 - confirm_probability on rank(H) degrees of freedom. A single bad pair is off
+// alone: the pairs after it fit the estimate and it stays an outlier for the solver's rejection. With
+// Gaussian noise a pair is off with probability below 2 alpha and a false alarm needs the next pairs to
+// confirm at beta: below 2 alpha beta (window - 1) = 2e-6 per pair at the defaults, about one session in
+// 1600 of 300 stations.
+// A pair tells a change only across its turn: the rotation residual of a pair turning by theta shows
+// about 2 sin(theta / 2) of a rotation change, so changes far below the noise stay undetected and go into
+// the estimate's residuals and std instead.
+#pragma once
+
+#include <deque>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "handeye/handeye_types.hpp"
+
+namespace fusecal {
+
+struct ChangeDetectionSettings {
+  bool enabled = true;
+  double off_probability = 5e-4;  // alpha: chance that one test of a pair of an unchanged rig is off
+  double confirm_probability = 1e-3;  // beta: chance that pairs of an unchanged rig confirm an off pair
+  int window = 3;                     // newest tested pairs the rule looks at
+  // The pair's noise is the noise the estimate's residuals show, at least this fraction of the nominal
+  // noise (a solve of few pairs can fit its residuals to almost nothing).
+  double noise_floor_fraction = 0.1;
+
+  // Empty when usable, else the field and what is wrong.
+  std::string Validate() const;
+};
+
+struct PairTest {
+  int station_i = -1;
+  int station_j = -1;
+  double d2 = 0;  // r^T C^-1 r
+  int dof = 0;
+  bool off = false;
+  Eigen::MatrixXd whitened_jacobian;  // W J_X (dof x 6), W^T W = C^-1: the residual's response to delta
+  Eigen::VectorXd whitened_residual;  // W r
+};
+
+// The test of `pair` against the estimate `estimate` (its covariance and the noise its residuals showed,
+// never below `noise_floor_fraction` of the nominal noise of `solver`).
+PairTest TestPair(const MotionPair& pair, const HandEyeResult& estimate, const HandEyeSettings& solver,
+                  const ChangeDetectionSettings& settings);
+
+// The likelihood ratio of a common change delta over `tests` (the rule above) and its degrees of freedom.
+std::pair<double, int> ChangeLikelihoodRatio(const std::vector<PairTest>& tests);
+
+// The chi^2 quantile for upper-tail probability `alpha` with `dof` degrees of freedom.
+double ChiSquareQuantile(int dof, double alpha);
+
+// The rule above over the pairs tested since the last change, in their order of arrival.
+class ChangeDetector {
+ public:
+  explicit ChangeDetector(ChangeDetectionSettings settings = {}) : settings_(settings) {}
+  // Adds the newest test, or the second test of a pair already there (off when either is); the station
+  // after which the extrinsic changed when the rule decides.
+  std::optional<int> Add(const PairTest& test);
+  void Reset() { recent_.clear(); }
+  // Whether the newest pairs hold an off pair (a change may be under way).
+  bool Suspicious() const;
+  const std::deque<PairTest>& recent() const { return recent_; }
+
+ private:
+  ChangeDetectionSettings settings_;
+  std::deque<PairTest> recent_;
+};
+
+}  // namespace fusecal

@@ -1,0 +1,187 @@
+// A sensor moved on its mount mid-session: the loop tells a change from an outlier, locates it between two
+// stations, and converges again from the motions after it.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "foundation/se3.hpp"
+#include "handeye/calibrator.hpp"
+#include "handeye/change_detection.hpp"
+#include "handeye/synthetic_motions.hpp"
+
+namespace fusecal {
+namespace {
+
+// A session of motion pairs k: station k -> k + 1. Pairs before `change_at` hold X, the pair `change_at`
+// spans the change (its camera motion X B X'^-1), later ones hold X' = X T(delta).
+struct Session {
+  Isometry3 X, X_after;
+  std::vector<MotionPair> metric;  // camera motions metric
+  int change_at = -1;
+
+  Session(int pairs, int change_at_pair, const Isometry3& delta, uint32_t seed, double rot_noise_deg = 0.02,
+          double trans_noise_m = 0.0005)
+      : change_at(change_at_pair) {
+    SyntheticMotionSettings s;
+    s.num_motions = pairs;
+    s.min_angle_deg = 10;
+    s.max_angle_deg = 30;
+    s.rotation_noise_deg = rot_noise_deg;
+    s.translation_noise_m = trans_noise_m;
+    s.seed = seed;
+    const SyntheticMotionSet before = GenerateSyntheticMotions(s);
+    X = before.T_camera_lidar;
+    X_after = X * delta;
+    s.T_camera_lidar = X_after;
+    const SyntheticMotionSet after = GenerateSyntheticMotions(s);
+    for (int k = 0; k < pairs; ++k) {
+      MotionPair p = change_at < 0 || k < change_at ? before.pairs[k] : after.pairs[k];
+      if (k == change_at) p.A = X * p.B * X_after.inverse();
+      metric.push_back(p);
+    }
+  }
+};
+
+SensorMotion Motion(SensorMotion::Sensor sensor, const MotionPair& p, const Isometry3& T, bool scaled) {
+  SensorMotion m;
+  m.sensor = sensor;
+  m.station_i = p.station_i;
+  m.station_j = p.station_j;
+  m.valid = true;
+  m.scaled = scaled;
+  m.T_i_j = T;
+  return m;
+}
+
+// Plays the session through the loop, answering every request with the metric camera motions.
+void Play(Calibrator& calibrator, const Session& session, int from = 0, int to = -1) {
+  std::map<StationPair, Isometry3> metric;
+  for (const auto& p : session.metric) metric[{p.station_i, p.station_j}] = p.A;
+  if (to < 0) to = static_cast<int>(session.metric.size());
+  for (int k = from; k < to; ++k) {
+    const MotionPair& p = session.metric[k];
+    Isometry3 direction = p.A;
+    direction.translation().normalize();
+    calibrator.OnMotion(Motion(SensorMotion::Sensor::kLidar, p, p.B, false), 0);
+    std::vector<CalibrationVersion> versions =
+        calibrator.OnMotion(Motion(SensorMotion::Sensor::kCamera, p, direction, false), 0);
+    while (!versions.empty() && versions.back().asks()) {
+      std::vector<SensorMotion> fused;
+      for (const auto& key : versions.back().used) {
+        MotionPair q;
+        q.station_i = key.first;
+        q.station_j = key.second;
+        fused.push_back(Motion(SensorMotion::Sensor::kCamera, q, metric.at(key), true));
+      }
+      versions = calibrator.OnFusedMotions(versions.back().version, fused, 0);
+    }
+  }
+}
+
+Isometry3 Delta(double roll_deg, double x_m) {
+  Isometry3 d = Isometry3::Identity();
+  d.linear() = Eigen::AngleAxisd(roll_deg * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  d.translation() = Eigen::Vector3d(x_m, 0, 0);
+  return d;
+}
+
+TEST(ChiSquareQuantile, MatchesTablesWithinAPercent) {
+  EXPECT_NEAR(ChiSquareQuantile(6, 1e-3), 22.458, 0.01);
+  EXPECT_NEAR(ChiSquareQuantile(3, 1e-3), 16.266, 0.01);
+  EXPECT_NEAR(ChiSquareQuantile(3, 0.05), 7.815, 0.01);
+  EXPECT_NEAR(ChiSquareQuantile(2, 0.01), 9.210, 0.01);
+}
+
+// Tests whose residuals respond to delta as the identity: a pair "sees" delta fully.
+PairTest MakeTest(int i, double d2, bool off, const Vector6& residual) {
+  PairTest t{i, i + 1, d2, 6, off};
+  t.whitened_jacobian = Eigen::MatrixXd::Identity(6, 6);
+  t.whitened_residual = residual;
+  return t;
+}
+
+TEST(ChangeDetector, AnOffPairIsAChangeOnlyWhenThePairsAfterItConfirmIt) {
+  ChangeDetector detector;
+  const Vector6 quiet = Vector6::Constant(0.5), moved = Vector6::Constant(3.0);
+  EXPECT_FALSE(detector.Add(MakeTest(0, 1.5, false, quiet)));
+  EXPECT_FALSE(detector.Add(MakeTest(1, 100, true, moved)));  // an outlier ...
+  EXPECT_FALSE(detector.Add(MakeTest(2, 1.5, false, quiet)));
+  EXPECT_FALSE(detector.Add(MakeTest(3, 1.5, false, quiet)));  // ... that the pairs after it do not confirm
+  EXPECT_FALSE(detector.Add(MakeTest(4, 100, true, moved)));  // the pair across a change ...
+  const auto change = detector.Add(MakeTest(5, 54, false, moved));  // ... and one after it, not off alone
+  ASSERT_TRUE(change);
+  EXPECT_EQ(*change, 4) << "the change lies in the off pair";
+  EXPECT_TRUE(detector.recent().empty());
+  // The second test of a pair replaces its first (a higher dof) and keeps it off.
+  EXPECT_FALSE(detector.Add(MakeTest(6, 100, true, moved)));
+  PairTest metric = MakeTest(6, 1, false, quiet);
+  EXPECT_FALSE(detector.Add(metric));
+  ASSERT_EQ(detector.recent().size(), 1u);
+  EXPECT_TRUE(detector.recent()[0].off);
+  EXPECT_TRUE(detector.Suspicious());
+}
+
+TEST(Calibrator, DetectsAMovedCameraWithinThreePairsAndConvergesToTheNewExtrinsic) {
+  struct Case {
+    double roll_deg, x_m;
+  };
+  for (const Case c : {Case{2.0, 0.03}, Case{0.5, 0.0}, Case{0.0, 0.01}}) {
+    const Session session(40, 20, Delta(c.roll_deg, c.x_m), 5);
+    Calibrator calibrator{CalibratorSettings{}};
+    Play(calibrator, session);
+    ASSERT_EQ(calibrator.changes().size(), 1u) << c.roll_deg << " deg, " << c.x_m << " m";
+    const ExtrinsicChange& change = calibrator.changes()[0];
+    EXPECT_EQ(change.after_station, 20);
+    EXPECT_LE(change.decided_at_station, 21 + 3);
+    EXPECT_LT(RotationErrorDeg(change.T_before.linear(), session.X.linear()), 0.1);
+    ASSERT_TRUE(calibrator.converged()) << calibrator.state();
+    const Isometry3 T = calibrator.current()->T_camera_lidar;
+    EXPECT_LT(RotationErrorDeg(T.linear(), session.X_after.linear()), 0.1);
+    EXPECT_LT((T.translation() - session.X_after.translation()).norm(), 0.003);
+    // The pairs before the change (and the one across it) left the solve.
+    for (const auto& p : calibrator.current()->used_pairs) EXPECT_GT(p.station_i, 20);
+  }
+}
+
+TEST(Calibrator, NoChangeIsReportedOverALongSessionOfAnUnchangedRig) {
+  for (uint32_t seed : {1u, 2u}) {
+    const Session session(150, -1, Isometry3::Identity(), seed, 0.05, 0.001);
+    Calibrator calibrator{CalibratorSettings{}};
+    Play(calibrator, session);
+    EXPECT_TRUE(calibrator.changes().empty()) << "seed " << seed << ": after station "
+                                              << calibrator.changes()[0].after_station;
+    EXPECT_TRUE(calibrator.converged());
+  }
+}
+
+TEST(Calibrator, ASingleBadPairIsAnOutlierNotAChange) {
+  Session session(30, -1, Isometry3::Identity(), 7);
+  // One camera motion far off (a bad match), in the middle of the session.
+  session.metric[15].A = session.metric[15].A * Delta(5.0, 0.1);
+  Calibrator calibrator{CalibratorSettings{}};
+  Play(calibrator, session);
+  EXPECT_TRUE(calibrator.changes().empty());
+  EXPECT_TRUE(calibrator.converged());
+  EXPECT_LT(RotationErrorDeg(calibrator.current()->T_camera_lidar.linear(), session.X.linear()), 0.1);
+}
+
+TEST(Calibrator, DetectionCanBeTurnedOffAndLateMotionsFromBeforeAChangeAreIgnored) {
+  const Session session(30, 15, Delta(2.0, 0.03), 9);
+  CalibratorSettings off;
+  off.change_detection.enabled = false;
+  Calibrator blind(off);
+  Play(blind, session);
+  EXPECT_TRUE(blind.changes().empty());
+
+  Calibrator calibrator{CalibratorSettings{}};
+  Play(calibrator, session);
+  ASSERT_EQ(calibrator.changes().size(), 1u);
+  const int pairs = calibrator.pairs();
+  // A motion from before the change, repeated by a restarted stage, stays out.
+  Play(calibrator, session, 3, 4);
+  EXPECT_EQ(calibrator.pairs(), pairs);
+  EXPECT_EQ(calibrator.changes().size(), 1u);
+}
+
+}  // namespace
+}  // namespace fusecal
