@@ -109,7 +109,11 @@ OrderedJson ToJson(const extrinsic_t& m, bool) {
           {"num_rejected", m.num_rejected},
           {"rejected_station_i", m.rejected_station_i},
           {"rejected_station_j", m.rejected_station_j},
-          {"message", m.message}};
+          {"message", m.message},
+          {"num_changes", m.num_changes},
+          {"change_after_station", m.change_after_station},
+          {"change_decided_at_station", m.change_decided_at_station},
+          {"change_T_before", m.change_T_before}};
 }
 
 OrderedJson ToJson(const status_t& m, bool) {

@@ -73,6 +73,24 @@ void EmitBody(YAML::Emitter& out, const CalibrationResult& r) {
   for (const auto& [key, value] : r.extra) out << YAML::Key << key << YAML::Value << value;
 }
 
+void EmitChanges(YAML::Emitter& out, const std::vector<ExtrinsicChangeRecord>& changes) {
+  out << YAML::Key << "changes" << YAML::Value << YAML::BeginSeq;
+  for (const auto& c : changes) {
+    out << YAML::BeginMap;
+    out << YAML::Key << "after_station" << YAML::Value << c.after_station;
+    out << YAML::Key << "decided_at_station" << YAML::Value << c.decided_at_station;
+    out << YAML::Key << "rotation_deg" << YAML::Value << c.rotation_deg;
+    out << YAML::Key << "rotation_std_deg" << YAML::Value << c.rotation_std_deg;
+    out << YAML::Key << "translation_m" << YAML::Value << c.translation_m;
+    out << YAML::Key << "translation_std_m" << YAML::Value << c.translation_std_m;
+    double m[16];
+    ToRowMajor(c.T_before, m);
+    EmitVector(out, "T_camera_lidar_before", std::vector<double>(m, m + 16));
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+}
+
 }  // namespace
 
 Eigen::Vector3d RotationStdDevDeg(const Matrix6& c) {
@@ -87,6 +105,7 @@ std::string ResultToYaml(const CalibrationResult& result, const CalibrationResul
   YAML::Emitter out;
   out << YAML::BeginMap;
   EmitBody(out, result);
+  if (result.changes) EmitChanges(out, *result.changes);
   if (initial) {
     out << YAML::Key << "initial" << YAML::Value << YAML::BeginMap;
     EmitBody(out, *initial);

@@ -12,6 +12,9 @@
 //                 when a direction is unobservable: the covariance with it projected out (ObservedPart)
 //   status, observability, unobservable_direction (camera frame, when any), motions_used, motions_rejected,
 //   residual_rms
+//   changes: [{after_station, decided_at_station, rotation_deg, rotation_std_deg, translation_m,
+//             translation_std_m, T_camera_lidar_before}]   (changes of the extrinsic the session detected;
+//                 written when the writer watches for changes, empty when none)
 //   initial: {...same keys...}                   (optional: the scaleless initial estimate)
 #pragma once
 
@@ -24,6 +27,15 @@
 
 namespace fusecal {
 
+// A change of the extrinsic mid-session (a sensor moved on its mount): between which stations, by how much.
+struct ExtrinsicChangeRecord {
+  int after_station = -1;       // the last station before the change
+  int decided_at_station = -1;  // the station whose motion decided it
+  double rotation_deg = 0, rotation_std_deg = 0;
+  double translation_m = 0, translation_std_m = 0;
+  Isometry3 T_before = Isometry3::Identity();  // the extrinsic in force before it
+};
+
 struct CalibrationResult {
   Isometry3 T_camera_lidar = Isometry3::Identity();
   std::optional<Matrix6> covariance;  // [rotation rad; translation m]
@@ -35,6 +47,7 @@ struct CalibrationResult {
   // Camera frame, unit: the direction the motions leave unobserved (see observability), when there is one.
   std::optional<Eigen::Vector3d> unobservable_direction;
   std::map<std::string, std::string> extra;   // further scalar facts (iterations, source, ...)
+  std::optional<std::vector<ExtrinsicChangeRecord>> changes;  // set: written as `changes`, even when empty
 };
 
 // Standard deviations from a covariance: rotation in degrees, translation in metres.

@@ -2,7 +2,10 @@
 // translation difference (estimate minus reference, in the camera frame).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+
+#include <Eigen/Geometry>
 
 #include "foundation/se3.hpp"
 
@@ -42,6 +45,32 @@ inline ObservableError CompareObservablePart(const Isometry3& estimate, const Is
   const Eigen::Vector3d dt = estimate.translation() - reference.translation();
   e.translation_perpendicular_m = dt - d * d.dot(dt);
   return e;
+}
+
+// The size of a change from `before` to `after` (rotation angle, translation distance) and its standard
+// deviation along the change, from the covariances of both (model of HandEyeResult: rotation about LiDAR
+// axes, translation in camera axes); along the largest axis when there was no change.
+struct ExtrinsicChangeSize {
+  double rotation_deg = 0, rotation_std_deg = 0;
+  double translation_m = 0, translation_std_m = 0;
+};
+
+inline ExtrinsicChangeSize SizeOfChange(const Isometry3& before, const Matrix6& covariance_before,
+                                        const Isometry3& after, const Matrix6& covariance_after) {
+  const Matrix6 C = covariance_before + covariance_after;
+  const Eigen::AngleAxisd turn(before.linear().transpose() * after.linear());
+  const Eigen::Vector3d dt = after.translation() - before.translation();
+  const auto std_along = [](const Eigen::Matrix3d& block, const Eigen::Vector3d& v) {
+    if (v.norm() < 1e-12) return std::sqrt(std::max(0.0, block.diagonal().maxCoeff()));
+    const Eigen::Vector3d u = v.normalized();
+    return std::sqrt(std::max(0.0, u.dot(block * u)));
+  };
+  ExtrinsicChangeSize s;
+  s.rotation_deg = std::abs(turn.angle()) * 180.0 / M_PI;
+  s.rotation_std_deg = std_along(C.topLeftCorner<3, 3>(), turn.axis() * turn.angle()) * 180.0 / M_PI;
+  s.translation_m = dt.norm();
+  s.translation_std_m = std_along(C.bottomRightCorner<3, 3>(), dt);
+  return s;
 }
 
 }  // namespace fusecal

@@ -86,6 +86,16 @@ extrinsic_t ToExtrinsicMessage(const CalibrationVersion& v) {
   msg.iteration = v.iteration;
   msg.change_rotation_rad = v.change_rotation_rad;
   msg.change_translation_m = v.change_translation_m;
+  for (const ExtrinsicChange& c : v.changes) {
+    msg.change_after_station.push_back(c.after_station);
+    msg.change_decided_at_station.push_back(c.decided_at_station);
+    std::vector<double> T(16), C(36);
+    ToRowMajor(c.T_before, T.data());
+    Matrix6ToArray(c.covariance_before, C.data());
+    msg.change_T_before.push_back(T);
+    msg.change_covariance_before.push_back(C);
+  }
+  msg.num_changes = static_cast<int32_t>(v.changes.size());
   return msg;
 }
 

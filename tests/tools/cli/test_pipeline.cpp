@@ -11,6 +11,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <thread>
+#include <yaml-cpp/yaml.h>
 
 #include "support/process_utils.hpp"
 #include "foundation/extrinsic_error.hpp"
@@ -313,6 +314,37 @@ TEST(PipelineScenarios, StopsAsShortAsMinStillAreMissedAndTheShippedScenarioIsNo
   const auto [all, converged] = stations_and_status(kScenarios + "/small-equirect.yaml", "small-shipped");
   EXPECT_EQ(all, 7);
   EXPECT_EQ(converged.status, "converged");
+}
+
+TEST(PipelineScenarios, CameraMovedOnItsMountIsReportedAndTheLoopConvergesAgain) {
+  std::string text = ReadAll(kScenarios + "/small-equirect.yaml");
+  for (const std::string axis : {"horizontal: 3", "vertical: 3"}) {
+    const auto at = text.find(axis);
+    ASSERT_NE(at, std::string::npos) << axis;
+    text.replace(at + axis.size() - 1, 1, "4");
+  }
+  text += "extrinsic_changes:\n  - after_stop: 4\n    delta_rpy_deg: [1.0, 0, 0]\n    delta_xyz_m: [0.02, 0, 0]\n";
+  const std::string scenario = Temp("small-moved.yaml"), log = Temp("small-moved.lcmlog"), out = Temp("small-moved");
+  std::ofstream(scenario) << text;
+  const auto sim = RunCommand(kFusecal + " simulate --scenario " + scenario + " --stations-only --out " + log + " 2>&1");
+  ASSERT_EQ(sim.exit_code, 0) << sim.output;
+  const auto cal = RunCommand(kFusecal + " calibrate --log " + log + " --out " + out + " 2>&1");
+  EXPECT_NE(cal.output.find("CHANGED after station 3"), std::string::npos) << cal.output;
+  const YAML::Node result = YAML::LoadFile(out + "/extrinsic.yaml");
+  ASSERT_TRUE(result["changes"].IsSequence()) << ReadAll(out + "/extrinsic.yaml");
+  ASSERT_EQ(result["changes"].size(), 1u);
+  const YAML::Node change = result["changes"][0];
+  EXPECT_EQ(change["after_station"].as<int>(), 3) << "the 4th stop is station 3";
+  EXPECT_LE(change["decided_at_station"].as<int>(), 3 + 3) << "within three pairs of the change";
+  EXPECT_NEAR(change["rotation_deg"].as<double>(), 1.0, 0.1);
+  EXPECT_NEAR(change["translation_m"].as<double>(), 0.02, 0.005);
+  EXPECT_EQ(result["status"].as<std::string>(), "converged");
+  // Against the extrinsic in force at the end, which the truth says holds from the change on.
+  const auto eval = RunCommand(kFusecal + " evaluate --result " + out + "/extrinsic.yaml --truth " + log);
+  const auto j = nlohmann::json::parse(eval.output);
+  EXPECT_LT(j["rot_err_deg"].get<double>(), 0.1) << eval.output;
+  EXPECT_LT(j["trans_err_m"].get<double>(), 0.003) << eval.output;
+  EXPECT_GT(j["truth_from_utime"].get<int64_t>(), ReadGroundTruths(log).front().utime);
 }
 
 TEST(PipelineBadInput, NoStationsAndOneRotationAxisGiveAVerdictNotACrash) {

@@ -28,6 +28,9 @@ struct CalibrationOutputs {
 };
 
 CalibrationResult ResultFromMessage(const extrinsic_t& message);
+// The changes of the extrinsic a version lists, each with its size (to the next change's estimate before,
+// or to this version's estimate for the newest) and the std of that size.
+std::vector<ExtrinsicChangeRecord> ChangeRecords(const extrinsic_t& message);
 
 // Runs `write` (which returns the path it wrote) and lists the file, or its failure as a warning.
 void AddOutputFile(CalibrationOutputs* outputs, const std::function<std::string()>& write);

@@ -1,5 +1,7 @@
 #include "pipeline/session.hpp"
 
+#include "pipeline/outputs.hpp"
+
 #include <iomanip>
 #include <sstream>
 
@@ -134,6 +136,13 @@ std::string ProgressText(const SessionRecord& session) {
         << std::setprecision(4) << sr.maxCoeff() << " deg";
     if (d.norm() > 0.5)
       out << " (observed part; unobservable: [" << std::setprecision(2) << d.x() << " " << d.y() << " " << d.z() << "])";
+    const std::vector<ExtrinsicChangeRecord> changes = ChangeRecords(*e);
+    if (!changes.empty()) {
+      const ExtrinsicChangeRecord& c = changes.back();
+      out << " | CHANGED after station " << c.after_station << " (decided at " << c.decided_at_station << "): "
+          << std::setprecision(3) << c.rotation_deg << "+-" << c.rotation_std_deg << " deg, " << c.translation_m
+          << "+-" << c.translation_std_m << " m";
+    }
   }
   return out.str();
 }
