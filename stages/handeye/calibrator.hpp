@@ -73,13 +73,6 @@ const char* Name(VersionStatus status);
 
 using StationPair = std::pair<int, int>;  // (station_i, station_j) of a motion
 
-// A change of the extrinsic the loop detected (handeye/change_detection.hpp).
-struct ExtrinsicChange {
-  int after_station = -1;        // the last station before the change
-  int decided_at_station = -1;   // station_j of the pair that decided it
-  Isometry3 T_before = Isometry3::Identity();  // the estimate in force until then, and its covariance
-  Matrix6 covariance_before = Matrix6::Zero();
-};
 
 // One version of the extrinsic.
 struct CalibrationVersion {

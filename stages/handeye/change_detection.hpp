@@ -52,6 +52,14 @@ struct ChangeDetectionSettings {
   std::string Validate() const;
 };
 
+// A change of the extrinsic that was detected.
+struct ExtrinsicChange {
+  int after_station = -1;        // the last station before the change
+  int decided_at_station = -1;   // station_j of the pair that decided it
+  Isometry3 T_before = Isometry3::Identity();  // the estimate in force until then, and its covariance
+  Matrix6 covariance_before = Matrix6::Zero();
+};
+
 struct PairTest {
   int station_i = -1;
   int station_j = -1;

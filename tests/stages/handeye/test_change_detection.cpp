@@ -94,7 +94,12 @@ TEST(ChiSquareQuantile, MatchesTablesWithinAPercent) {
 
 // Tests whose residuals respond to delta as the identity: a pair "sees" delta fully.
 PairTest MakeTest(int i, double d2, bool off, const Vector6& residual) {
-  PairTest t{i, i + 1, d2, 6, off};
+  PairTest t;
+  t.station_i = i;
+  t.station_j = i + 1;
+  t.d2 = d2;
+  t.dof = 6;
+  t.off = off;
   t.whitened_jacobian = Eigen::MatrixXd::Identity(6, 6);
   t.whitened_residual = residual;
   return t;

@@ -1,5 +1,6 @@
 // The `fusecal` commands that wrap the cores: simulate (determinism, bad scenarios) and handeye (CSV).
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 #include <unistd.h>
 
 #include <fstream>
@@ -234,6 +235,53 @@ TEST(HandEyeCommand, HandheldPairsAreObservedInBothScaleModes) {
     results.push_back(r);
   }
   EXPECT_GT((results[0].T_camera_lidar.translation() - results[1].T_camera_lidar.translation()).norm(), 1e-4);
+}
+
+// Metric pairs whose extrinsic changes after row 20 (the camera moved by 2 deg and 3 cm): the change is
+// found in the row that spans it, each part is solved alone, and the result is the part after it.
+TEST(HandEyeCommand, FindsTheRowWhereTheExtrinsicChangedAndSolvesThePartAfterIt) {
+  SyntheticMotionSettings settings;
+  settings.num_motions = 40;
+  settings.min_angle_deg = 10;
+  settings.max_angle_deg = 30;
+  settings.rotation_noise_deg = 0.05;
+  settings.translation_noise_m = 0.001;
+  settings.seed = 11;
+  const SyntheticMotionSet before = GenerateSyntheticMotions(settings);
+  Isometry3 delta = Isometry3::Identity();
+  delta.linear() = Eigen::AngleAxisd(2.0 * M_PI / 180, Eigen::Vector3d(0.3, 1, 0).normalized()).toRotationMatrix();
+  delta.translation() = Eigen::Vector3d(0.03, 0, 0);
+  settings.T_camera_lidar = before.T_camera_lidar * delta;
+  const SyntheticMotionSet after = GenerateSyntheticMotions(settings);
+  std::vector<MotionPair> pairs(before.pairs.begin(), before.pairs.begin() + 20);
+  MotionPair across = after.pairs[20];  // row 21: the camera moved during this motion
+  across.A = before.T_camera_lidar * across.B * after.T_camera_lidar.inverse();
+  pairs.push_back(across);
+  pairs.insert(pairs.end(), after.pairs.begin() + 21, after.pairs.end());
+  const std::string csv = Temp("moved.csv"), out = Temp("moved.yaml");
+  WriteCsv(csv, pairs);
+  const auto run = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale metric --all-parts --out " + out + " 2>&1");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("CHANGED in row 21 (after station 20"), std::string::npos) << run.output;
+  const YAML::Node file = YAML::LoadFile(out);
+  ASSERT_EQ(file["changes"].size(), 1u) << run.output;
+  EXPECT_EQ(file["changes"][0]["after_station"].as<int>(), 20);
+  EXPECT_LE(file["changes"][0]["decided_at_station"].as<int>(), 21 + 3);
+  EXPECT_NEAR(file["changes"][0]["rotation_deg"].as<double>(), 2.0, 0.1);
+  EXPECT_NEAR(file["changes"][0]["translation_m"].as<double>(), 0.03, 0.003);
+  const CalibrationResult last = ReadResultFile(out), first = ReadResultFile(Temp("moved-part1.yaml"));
+  EXPECT_LT(RotationErrorDeg(last.T_camera_lidar.linear(), after.T_camera_lidar.linear()), 0.1);
+  EXPECT_LT((last.T_camera_lidar.translation() - after.T_camera_lidar.translation()).norm(), 0.003);
+  EXPECT_LT(RotationErrorDeg(first.T_camera_lidar.linear(), before.T_camera_lidar.linear()), 0.1);
+  // The same rows without the change: no change, one part; --no-changes blends both parts.
+  WriteCsv(csv, before.pairs);
+  const auto unchanged = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale metric --out " + out + " 2>&1");
+  EXPECT_EQ(unchanged.output.find("CHANGED"), std::string::npos) << unchanged.output;
+  EXPECT_EQ(YAML::LoadFile(out)["changes"].size(), 0u);
+  WriteCsv(csv, pairs);
+  const auto blind = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale metric --no-changes --out " + out + " 2>&1");
+  EXPECT_EQ(blind.output.find("CHANGED"), std::string::npos) << blind.output;
+  EXPECT_GT(RotationErrorDeg(ReadResultFile(out).T_camera_lidar.linear(), after.T_camera_lidar.linear()), 0.3);
 }
 
 TEST(HandEyeCommand, TooFewMotionsAndBadFilesFailClearly) {
