@@ -237,7 +237,7 @@ TEST(HandEyeOutlierRejection, APairSetAsideComesBackWhenExplained) {
   const auto residuals = [&](const MotionPair& p) { return std::make_pair(rot_deg[p.station_i], 0.001); };
   HandEyeSettings s;
   s.nominal_rotation_sigma_deg = 0.01;  // limits from the residuals: 4 x median 0.1 deg
-  const handeye::NoiseModel nominal{0.01 * kDeg, 0.001};
+  const handeye::NoiseModel nominal{0.01 * kDeg, 0.001, std::nullopt};
   ASSERT_TRUE(handeye::RejectOrRestoreOne(&set, input, residuals, nominal, s));
   ASSERT_EQ(set.outliers.count(4), 1u);
   EXPECT_EQ(set.size(), 5);
