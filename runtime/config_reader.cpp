@@ -17,7 +17,7 @@ Check<std::string> OneOf(std::vector<std::string> allowed) {
 }
 
 ConfigReader::ConfigReader(YAML::Node node, std::string source, std::string prefix)
-    : node_(std::move(node)), source_(std::move(source)), prefix_(std::move(prefix)) {
+    : node_(node), source_(std::move(source)), prefix_(std::move(prefix)) {  // a YAML::Node has no move
   if (node_ && !node_.IsNull() && !node_.IsMap())
     throw ConfigError(source_ + ": " + (prefix_.empty() ? std::string("top level") : prefix_) +
                       " must be a map of keys");

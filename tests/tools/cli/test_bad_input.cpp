@@ -236,7 +236,7 @@ std::vector<BadCase> Cases() {
                calibrate(GoodLog()) + " --config " + In("c4.yaml"), "detection_scael"});
   c.push_back({"ConfigUnknownTopLevelKey", [=] { ConfigWith("c5.yaml", "", "stations_form: log"); },
                calibrate(GoodLog()) + " --config " + In("c5.yaml"), "stations_form"});
-  c.push_back({"ConfigNotYaml", [=] { WriteAll(In("c6.yaml"), std::string("\x01\x02{[: ::\n\t- ]", 14)); },
+  c.push_back({"ConfigNotYaml", [=] { WriteAll(In("c6.yaml"), std::string("\x01\x02{[: ::\n\t- ]\0", 14)); },
                calibrate(GoodLog()) + " --config " + In("c6.yaml"), "c6.yaml"});
   c.push_back({"ConfigMissing", [] {}, calibrate(GoodLog()) + " --config " + In("absent.yaml"), "absent.yaml"});
   c.push_back({"LiveWithoutSpeed", [] {}, "run --log " + GoodLog() + " --live --speed 0 --out " + In("live"), "--live"});
