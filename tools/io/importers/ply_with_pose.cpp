@@ -73,6 +73,14 @@ std::optional<Eigen::Matrix4d> PoseFromColumns(const std::string& path, const st
   return M;
 }
 
+// The numbers of one "matrix" line (a column of the pose).
+Eigen::Vector4d MatrixColumn(const std::string& path, std::istringstream& words) {
+  Eigen::Vector4d column;
+  for (int i = 0; i < 4; ++i)
+    if (!(words >> column[i])) throw std::runtime_error(path + ": 'matrix' line needs 4 numbers");
+  return column;
+}
+
 // Bytes from the read position to the end of the file: more vertices than that cannot be there.
 int64_t BytesLeft(std::ifstream& in) {
   const std::streamoff here = in.tellg();
@@ -121,12 +129,7 @@ PosedScan ReadPlyWithPose(const std::string& path) {
       if (p.size == 0) throw std::runtime_error(path + ": vertex property type '" + p.type + "' not supported");
       props.push_back(p);
     }
-    if (word == "matrix") {
-      Eigen::Vector4d column;
-      for (int i = 0; i < 4; ++i)
-        if (!(words >> column[i])) throw std::runtime_error(path + ": 'matrix' line needs 4 numbers");
-      columns.push_back(column);
-    }
+    if (word == "matrix") columns.push_back(MatrixColumn(path, words));
   }
   if (!in) throw std::runtime_error(path + ": header has no end_header");
   if (vertices < 0) throw std::runtime_error(path + ": no vertex element");
