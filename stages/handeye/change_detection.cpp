@@ -34,7 +34,47 @@ double ChiSquareSurvival(int k, double x) {
   return std::erfc(std::sqrt(h)) + std::exp(-h) * sum;
 }
 
+// The regularised incomplete beta function I_x(a, b), by its continued fraction (Lentz's method).
+double IncompleteBeta(double a, double b, double x) {
+  if (x <= 0) return 0;
+  if (x >= 1) return 1;
+  if (x > (a + 1) / (a + b + 2)) return 1 - IncompleteBeta(b, a, 1 - x);
+  const double front = std::exp(std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log(1 - x)) / a;
+  const double tiny = 1e-300;
+  double c = 1, d = 1 - (a + b) * x / (a + 1);
+  d = 1 / (std::abs(d) < tiny ? tiny : d);
+  double f = d;
+  for (int m = 1; m < 300; ++m) {
+    for (int odd = 0; odd < 2; ++odd) {
+      const double num = odd ? -(a + m) * (a + b + m) * x / ((a + 2 * m) * (a + 2 * m + 1))
+                             : m * (b - m) * x / ((a + 2 * m - 1) * (a + 2 * m));
+      d = 1 + num * d;
+      d = 1 / (std::abs(d) < tiny ? tiny : d);
+      c = 1 + num / c;
+      if (std::abs(c) < tiny) c = tiny;
+      f *= c * d;
+    }
+    if (std::abs(c * d - 1) < 1e-14) break;
+  }
+  return front * f;
+}
+
+// P(F(d1, d2) > x).
+double FSurvival(double d1, double d2, double x) { return IncompleteBeta(0.5 * d2, 0.5 * d1, d2 / (d2 + d1 * x)); }
+
 }  // namespace
+
+double TestThreshold(int dof, int noise_dof, double alpha) {
+  if (noise_dof >= 2000) return ChiSquareQuantile(dof, alpha);
+  // d^2 / dof with a noise estimated from noise_dof residuals is F(dof, noise_dof) distributed.
+  double lo = 0, hi = 1;
+  while (FSurvival(dof, noise_dof, hi) > alpha && hi < 1e12) hi *= 2;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (FSurvival(dof, noise_dof, mid) > alpha ? lo : hi) = mid;
+  }
+  return dof * 0.5 * (lo + hi);
+}
 
 double ChiSquareQuantile(int dof, double alpha) {
   double lo = 0, hi = 10.0 * dof + 200;
@@ -56,6 +96,8 @@ PairTest TestPair(const MotionPair& pair, const HandEyeResult& estimate, const H
   const double floor = settings.noise_floor_fraction;
   noise.rot_sigma_rad = std::max(estimate.noise_rot_deg, floor * solver.nominal_rotation_sigma_deg) * M_PI / 180.0;
   noise.trans_sigma_m = std::max(estimate.noise_trans_m, floor * solver.nominal_translation_sigma_m);
+  // That noise is itself estimated, from about 3 residuals per pair less the 6 unknowns.
+  test.noise_dof = std::max(1, 3 * static_cast<int>(estimate.used_pairs.size()) - 6);
   const Matrix6 J_X = handeye::JacobianWrtExtrinsic(pair, R);
   Matrix6 C = handeye::ResidualCovariance(pair, R, t, noise) + J_X * estimate.covariance * J_X.transpose();
   const Vector6 r = handeye::PairResidual(pair, R, t);
@@ -73,7 +115,7 @@ PairTest TestPair(const MotionPair& pair, const HandEyeResult& estimate, const H
     test.d2 = 0;
     return test;
   }
-  test.off = test.d2 > ChiSquareQuantile(test.dof, settings.off_probability);
+  test.off = test.d2 > TestThreshold(test.dof, test.noise_dof, settings.off_probability);
   return test;
 }
 
@@ -113,7 +155,7 @@ std::optional<int> ChangeDetector::Add(const PairTest& test) {
       if (t.station_i >= candidate.station_j) after.push_back(t);
     if (after.empty()) continue;
     const auto [lambda, dof] = ChangeLikelihoodRatio(after);
-    if (dof == 0 || lambda <= ChiSquareQuantile(dof, settings_.confirm_probability)) continue;
+    if (dof == 0 || lambda <= TestThreshold(dof, after.back().noise_dof, settings_.confirm_probability)) continue;
     const int after_station = candidate.station_i;
     recent_.clear();
     return after_station;

@@ -5,8 +5,10 @@
 // handeye/pair_model.hpp) has, if X still holds, the covariance
 //   C = J_A S_A J_A^T + J_B S_B J_B^T + J_X S_X J_X^T
 // (the pair's own noise at the noise the estimate's residuals show, and the estimate's covariance S_X), so
-//   d^2 = r^T C^-1 r  ~  chi^2(k),   k = 6 for a metric camera motion, 3 (rotation only) for a scaleless one.
-// The pair is "off" when d^2 exceeds the chi^2 quantile 1 - alpha (alpha = off_probability).
+//   d^2 = r^T C^-1 r,   d^2 / k  ~  F(k, nu),   k = 6 for a metric camera motion, 3 (rotation only) for a
+// scaleless one, nu = 3 n - 6 the residuals the noise of a solve of n pairs was estimated from (chi^2(k)
+// for many pairs; a solve of few pairs fits its residuals too well, and the F quantile allows for that).
+// The pair is "off" when d^2 exceeds the quantile 1 - alpha (alpha = off_probability).
 //
 // Each pair is tested twice: on arrival with its scaleless camera motion (rotation only; also a pair the
 // solve will reject as an outlier is tested), and with the metric camera motion fusion odometry gives for
@@ -20,7 +22,7 @@
 // the newest `window` when the pairs after it, together, reject delta = 0: with whitened residuals w_i
 // and Jacobians G_i (d w_i / d delta) of those pairs, the generalised likelihood ratio
 //   lambda = g^T H^+ g,   g = sum G_i^T w_i,   H = sum G_i^T G_i,
-// exceeds the chi^2 quantile 1 - confirm_probability on rank(H) degrees of freedom. A single bad pair is off
+// exceeds the quantile 1 - confirm_probability on rank(H) degrees of freedom (F as above). A single bad pair is off
 // alone: the pairs after it fit the estimate and it stays an outlier for the solver's rejection. With
 // Gaussian noise a pair is off with probability below 2 alpha and a false alarm needs the next pairs to
 // confirm at beta: below 2 alpha beta (window - 1) = 2e-6 per pair at the defaults, about one session in
@@ -44,8 +46,7 @@ struct ChangeDetectionSettings {
   double off_probability = 5e-4;  // alpha: chance that one test of a pair of an unchanged rig is off
   double confirm_probability = 1e-3;  // beta: chance that pairs of an unchanged rig confirm an off pair
   int window = 3;                     // newest tested pairs the rule looks at
-  // The pair's noise is the noise the estimate's residuals show, at least this fraction of the nominal
-  // noise (a solve of few pairs can fit its residuals to almost nothing).
+  // The pair's noise is the noise the estimate's residuals show, at least this fraction of the nominal.
   double noise_floor_fraction = 0.1;
 
   // Empty when usable, else the field and what is wrong.
@@ -65,6 +66,7 @@ struct PairTest {
   int station_j = -1;
   double d2 = 0;  // r^T C^-1 r
   int dof = 0;
+  int noise_dof = 0;  // residuals the noise of the estimate tested against was estimated from
   bool off = false;
   Eigen::MatrixXd whitened_jacobian;  // W J_X (dof x 6), W^T W = C^-1: the residual's response to delta
   Eigen::VectorXd whitened_residual;  // W r
@@ -77,6 +79,10 @@ PairTest TestPair(const MotionPair& pair, const HandEyeResult& estimate, const H
 
 // The likelihood ratio of a common change delta over `tests` (the rule above) and its degrees of freedom.
 std::pair<double, int> ChangeLikelihoodRatio(const std::vector<PairTest>& tests);
+
+// The threshold of d^2 for upper-tail probability `alpha` with `dof` tested residuals whose noise was
+// estimated from `noise_dof` residuals: dof times the F(dof, noise_dof) quantile.
+double TestThreshold(int dof, int noise_dof, double alpha);
 
 // The chi^2 quantile for upper-tail probability `alpha` with `dof` degrees of freedom.
 double ChiSquareQuantile(int dof, double alpha);

@@ -94,4 +94,20 @@ Vector6 ExtrinsicError(const Isometry3& estimate, const Isometry3& truth) {
   return e;
 }
 
+ChangingMotionSet GenerateChangingMotions(SyntheticMotionSettings settings, int change_at, const Isometry3& delta) {
+  ChangingMotionSet out;
+  out.change_at = change_at;
+  const SyntheticMotionSet before = GenerateSyntheticMotions(settings);
+  out.before = before.T_camera_lidar;
+  out.after = change_at < 0 ? out.before : Isometry3(out.before * delta);
+  settings.T_camera_lidar = out.after;
+  const SyntheticMotionSet after = GenerateSyntheticMotions(settings);
+  for (int k = 0; k < static_cast<int>(before.pairs.size()); ++k) {
+    MotionPair p = change_at < 0 || k < change_at ? before.pairs[k] : after.pairs[k];
+    if (k == change_at) p.A = out.before * p.B * out.after.inverse();
+    out.pairs.push_back(p);
+  }
+  return out;
+}
+
 }  // namespace fusecal

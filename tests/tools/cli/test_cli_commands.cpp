@@ -247,17 +247,12 @@ TEST(HandEyeCommand, FindsTheRowWhereTheExtrinsicChangedAndSolvesThePartAfterIt)
   settings.rotation_noise_deg = 0.05;
   settings.translation_noise_m = 0.001;
   settings.seed = 11;
-  const SyntheticMotionSet before = GenerateSyntheticMotions(settings);
   Isometry3 delta = Isometry3::Identity();
   delta.linear() = Eigen::AngleAxisd(2.0 * M_PI / 180, Eigen::Vector3d(0.3, 1, 0).normalized()).toRotationMatrix();
   delta.translation() = Eigen::Vector3d(0.03, 0, 0);
-  settings.T_camera_lidar = before.T_camera_lidar * delta;
-  const SyntheticMotionSet after = GenerateSyntheticMotions(settings);
-  std::vector<MotionPair> pairs(before.pairs.begin(), before.pairs.begin() + 20);
-  MotionPair across = after.pairs[20];  // row 21: the camera moved during this motion
-  across.A = before.T_camera_lidar * across.B * after.T_camera_lidar.inverse();
-  pairs.push_back(across);
-  pairs.insert(pairs.end(), after.pairs.begin() + 21, after.pairs.end());
+  const ChangingMotionSet moved = GenerateChangingMotions(settings, 20, delta);  // row 21 spans the change
+  const std::vector<MotionPair>& pairs = moved.pairs;
+  const SyntheticMotionSet before = GenerateSyntheticMotions(settings);
   const std::string csv = Temp("moved.csv"), out = Temp("moved.yaml");
   WriteCsv(csv, pairs);
   const auto run = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale metric --all-parts --out " + out + " 2>&1");
@@ -270,8 +265,8 @@ TEST(HandEyeCommand, FindsTheRowWhereTheExtrinsicChangedAndSolvesThePartAfterIt)
   EXPECT_NEAR(file["changes"][0]["rotation_deg"].as<double>(), 2.0, 0.1);
   EXPECT_NEAR(file["changes"][0]["translation_m"].as<double>(), 0.03, 0.003);
   const CalibrationResult last = ReadResultFile(out), first = ReadResultFile(Temp("moved-part1.yaml"));
-  EXPECT_LT(RotationErrorDeg(last.T_camera_lidar.linear(), after.T_camera_lidar.linear()), 0.1);
-  EXPECT_LT((last.T_camera_lidar.translation() - after.T_camera_lidar.translation()).norm(), 0.003);
+  EXPECT_LT(RotationErrorDeg(last.T_camera_lidar.linear(), moved.after.linear()), 0.1);
+  EXPECT_LT((last.T_camera_lidar.translation() - moved.after.translation()).norm(), 0.003);
   EXPECT_LT(RotationErrorDeg(first.T_camera_lidar.linear(), before.T_camera_lidar.linear()), 0.1);
   // The same rows without the change: no change, one part; --no-changes blends both parts.
   WriteCsv(csv, before.pairs);
@@ -281,7 +276,7 @@ TEST(HandEyeCommand, FindsTheRowWhereTheExtrinsicChangedAndSolvesThePartAfterIt)
   WriteCsv(csv, pairs);
   const auto blind = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale metric --no-changes --out " + out + " 2>&1");
   EXPECT_EQ(blind.output.find("CHANGED"), std::string::npos) << blind.output;
-  EXPECT_GT(RotationErrorDeg(ReadResultFile(out).T_camera_lidar.linear(), after.T_camera_lidar.linear()), 0.3);
+  EXPECT_GT(RotationErrorDeg(ReadResultFile(out).T_camera_lidar.linear(), moved.after.linear()), 0.3);
 }
 
 TEST(HandEyeCommand, TooFewMotionsAndBadFilesFailClearly) {
