@@ -1,5 +1,7 @@
 #include "formats/result_file.hpp"
 
+#include "foundation/extrinsic_error.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -92,6 +94,21 @@ void EmitChanges(YAML::Emitter& out, const std::vector<ExtrinsicChangeRecord>& c
 }
 
 }  // namespace
+
+ExtrinsicChangeRecord MakeChangeRecord(int after_station, int decided_at_station, const Isometry3& before,
+                                       const Matrix6& covariance_before, const Isometry3& after,
+                                       const Matrix6& covariance_after) {
+  ExtrinsicChangeRecord r;
+  r.after_station = after_station;
+  r.decided_at_station = decided_at_station;
+  r.T_before = before;
+  const ExtrinsicChangeSize size = SizeOfChange(before, covariance_before, after, covariance_after);
+  r.rotation_deg = size.rotation_deg;
+  r.rotation_std_deg = size.rotation_std_deg;
+  r.translation_m = size.translation_m;
+  r.translation_std_m = size.translation_std_m;
+  return r;
+}
 
 Eigen::Vector3d RotationStdDevDeg(const Matrix6& c) {
   return c.diagonal().head<3>().cwiseMax(0.0).cwiseSqrt() * 180.0 / M_PI;

@@ -36,6 +36,11 @@ struct ExtrinsicChangeRecord {
   Isometry3 T_before = Isometry3::Identity();  // the extrinsic in force before it
 };
 
+// A record of a change from the extrinsic before it to the one after (SizeOfChange, with both covariances).
+ExtrinsicChangeRecord MakeChangeRecord(int after_station, int decided_at_station, const Isometry3& before,
+                                       const Matrix6& covariance_before, const Isometry3& after,
+                                       const Matrix6& covariance_after);
+
 struct CalibrationResult {
   Isometry3 T_camera_lidar = Isometry3::Identity();
   std::optional<Matrix6> covariance;  // [rotation rad; translation m]

@@ -76,6 +76,14 @@ std::vector<CalibrationVersion> AnswerAll(Calibrator& calibrator, const Rig& rig
   return seen;
 }
 
+// Pairs [0, n): each LiDAR motion, then its camera motion, every request answered.
+void PlayPairs(Calibrator& calibrator, const Rig& rig, int n) {
+  for (int k = 0; k < n; ++k) {
+    calibrator.OnMotion(rig.Lidar(k), 0);
+    AnswerAll(calibrator, rig, calibrator.OnMotion(rig.FrontEndCamera(k), 0), 0);
+  }
+}
+
 double RotationError(const Calibrator& c, const Rig& rig) {
   return RotationErrorDeg(c.current()->T_camera_lidar.linear(), rig.set.T_camera_lidar.linear());
 }
@@ -125,10 +133,7 @@ TEST(Calibrator, AMotionOfEitherSensorMayComeFirst) {
 TEST(Calibrator, RepeatedMotionsStartNoRound) {
   const Rig rig(6);
   Calibrator calibrator(Settings());
-  for (int k = 0; k < 6; ++k) {
-    calibrator.OnMotion(rig.Lidar(k), 0);
-    AnswerAll(calibrator, rig, calibrator.OnMotion(rig.FrontEndCamera(k), 0), 0);
-  }
+  PlayPairs(calibrator, rig, 6);
   const int version = calibrator.version();
   for (int k = 0; k < 6; ++k) {
     EXPECT_TRUE(calibrator.OnMotion(rig.Lidar(k), 0).empty());
@@ -141,10 +146,7 @@ TEST(Calibrator, RepeatedMotionsStartNoRound) {
 TEST(Calibrator, AnswersToAnyButTheAwaitedVersionAreIgnored) {
   const Rig rig(8);
   Calibrator calibrator(Settings());
-  for (int k = 0; k < 7; ++k) {
-    calibrator.OnMotion(rig.Lidar(k), 0);
-    AnswerAll(calibrator, rig, calibrator.OnMotion(rig.FrontEndCamera(k), 0), 0);
-  }
+  PlayPairs(calibrator, rig, 7);
   calibrator.OnMotion(rig.Lidar(7), 0);
   const auto first = calibrator.OnMotion(rig.FrontEndCamera(7), 0);
   ASSERT_TRUE(!first.empty() && first.back().asks());
@@ -186,10 +188,7 @@ TEST(Calibrator, AnUnansweredRequestIsRepeatedAfterRetryUnderTheSameVersion) {
 TEST(Calibrator, ARestartedLoopReachesTheSameEstimateFromRepeatedMotions) {
   const Rig rig(10);
   Calibrator first(Settings());
-  for (int k = 0; k < 10; ++k) {
-    first.OnMotion(rig.Lidar(k), 0);
-    AnswerAll(first, rig, first.OnMotion(rig.FrontEndCamera(k), 0), 0);
-  }
+  PlayPairs(first, rig, 10);
   // The restarted hand-eye process hears every motion again, all at once.
   Calibrator restarted(Settings());
   std::vector<CalibrationVersion> versions;
@@ -207,10 +206,7 @@ TEST(Calibrator, ARestartedLoopReachesTheSameEstimateFromRepeatedMotions) {
 TEST(Calibrator, FailedMotionsNeverPairAndFailedAnswersKeepTheEstimate) {
   const Rig rig(8);
   Calibrator calibrator(Settings());
-  for (int k = 0; k < 8; ++k) {
-    calibrator.OnMotion(rig.Lidar(k), 0);
-    AnswerAll(calibrator, rig, calibrator.OnMotion(rig.FrontEndCamera(k), 0), 0);
-  }
+  PlayPairs(calibrator, rig, 8);
   ASSERT_TRUE(calibrator.converged());
   const Isometry3 before = calibrator.current()->T_camera_lidar;
   // A motion the LiDAR stage could not compute completes no pair.

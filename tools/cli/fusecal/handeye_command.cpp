@@ -4,11 +4,11 @@
 // where the extrinsic changed (a sensor moved on its mount) split the rows into parts, each solved alone;
 // the last part is the result (handeye/segmented_solve.hpp).
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <iomanip>
 #include <iostream>
 
 #include "commands.hpp"
-#include "foundation/extrinsic_error.hpp"
 #include "handeye/global_scale.hpp"
 #include "handeye/segmented_solve.hpp"
 #include "handeye/node/motion_csv.hpp"
@@ -44,17 +44,10 @@ std::vector<ExtrinsicChangeRecord> ChangeRecords(const SegmentedSolve& solved) {
   for (size_t k = 0; k < solved.changes.size(); ++k) {
     const ExtrinsicChange& c = solved.changes[k];
     const HandEyeResult& after = solved.segments[k + 1].result;
-    ExtrinsicChangeRecord r;
-    r.after_station = c.after_station;
-    r.decided_at_station = c.decided_at_station;
-    r.T_before = c.T_before;
-    if (after.usable()) {
-      const ExtrinsicChangeSize size = SizeOfChange(c.T_before, c.covariance_before, after.T_camera_lidar, after.covariance);
-      r.rotation_deg = size.rotation_deg;
-      r.rotation_std_deg = size.rotation_std_deg;
-      r.translation_m = size.translation_m;
-      r.translation_std_m = size.translation_std_m;
-    }
+    ExtrinsicChangeRecord r = MakeChangeRecord(c.after_station, c.decided_at_station, c.T_before,
+                                               c.covariance_before, after.T_camera_lidar, after.covariance);
+    if (!after.usable())  // no size without a solve of the part after it
+      r.rotation_deg = r.rotation_std_deg = r.translation_m = r.translation_std_m = std::nan("");
     records.push_back(r);
   }
   return records;

@@ -22,20 +22,14 @@ namespace fs = std::filesystem;
 std::vector<ExtrinsicChangeRecord> ChangeRecords(const extrinsic_t& e) {
   std::vector<ExtrinsicChangeRecord> records;
   for (int k = 0; k < e.num_changes; ++k) {
-    ExtrinsicChangeRecord c;
-    c.after_station = e.change_after_station[k];
-    c.decided_at_station = e.change_decided_at_station[k];
-    c.T_before = FromRowMajor(e.change_T_before[k].data());
     // The size: to the estimate before the next change, or to this version's for the newest.
     const bool newest = k + 1 == e.num_changes;
-    const Isometry3 after = newest ? FromRowMajor(e.T_camera_lidar) : FromRowMajor(e.change_T_before[k + 1].data());
-    const Matrix6 after_cov = newest ? Matrix6FromArray(e.covariance) : Matrix6FromArray(e.change_covariance_before[k + 1].data());
-    const ExtrinsicChangeSize size = SizeOfChange(c.T_before, Matrix6FromArray(e.change_covariance_before[k].data()), after, after_cov);
-    c.rotation_deg = size.rotation_deg;
-    c.rotation_std_deg = size.rotation_std_deg;
-    c.translation_m = size.translation_m;
-    c.translation_std_m = size.translation_std_m;
-    records.push_back(c);
+    const double* after = newest ? e.T_camera_lidar : e.change_T_before[k + 1].data();
+    const double* after_covariance = newest ? e.covariance : e.change_covariance_before[k + 1].data();
+    records.push_back(MakeChangeRecord(e.change_after_station[k], e.change_decided_at_station[k],
+                                       FromRowMajor(e.change_T_before[k].data()),
+                                       Matrix6FromArray(e.change_covariance_before[k].data()), FromRowMajor(after),
+                                       Matrix6FromArray(after_covariance)));
   }
   return records;
 }
