@@ -74,6 +74,16 @@ DiagnosticReport DescribeExtrinsic(const extrinsic_t& e) {
       {"motions_rejected", std::to_string(e.num_rejected)},
       {"residual_rms_m", Number(e.residual_rms, 5)},
   };
+  if (e.num_changes > 0) {
+    // The rig changed: the loop solves again from the motions after the newest change (WARN until converged).
+    const int after = e.change_after_station.back();
+    report.message += "; extrinsic changed after station " + std::to_string(after);
+    report.values.push_back({"changes", std::to_string(e.num_changes)});
+    report.values.push_back({"changed_after_station", std::to_string(after)});
+    const Isometry3 before = FromRowMajor(e.change_T_before.back().data());
+    report.values.push_back({"before_translation_m", Vector(before.translation(), 4)});
+    report.values.push_back({"before_rpy_deg", Vector(RpyFromRotation(before.linear()) * 180.0 / M_PI, 3)});
+  }
   if (e.observability != extrinsic_t::OBSERVABILITY_OK)
     report.values.push_back({"unobservable_direction_camera",
                              Vector(Eigen::Vector3d(e.unobservable_direction[0], e.unobservable_direction[1],

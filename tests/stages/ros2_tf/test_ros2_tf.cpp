@@ -19,6 +19,7 @@
 #include "fusecal/station_t.hpp"
 #include "ros2_messages.h"
 #include "runtime/bus.hpp"
+#include "ros2_tf/node/ros2_views.hpp"
 
 namespace fusecal {
 namespace {
@@ -192,6 +193,32 @@ TEST(Ros2Tf, TheOverlayImageAndTheDiagnosticsReachRos2Readers) {
   dds_return_loan(overlay, image_sample, 1);
   dds_return_loan(diagnostics, diagnostic_sample, 1);
   dds_delete(participant);
+}
+
+// After a change of the rig the diagnostics warn until the loop has converged again, and say after which
+// station the extrinsic changed and what it was before.
+TEST(Ros2TfDiagnostics, AChangedRigWarnsUntilConvergedAndSaysWhatChanged) {
+  extrinsic_t e{};
+  e.version = 9;
+  ToRowMajor(Isometry3::Identity(), e.T_camera_lidar);
+  e.status = extrinsic_t::STATUS_REFINING;
+  Isometry3 before = Isometry3::Identity();
+  before.translation() = Eigen::Vector3d(0.1, 0, 0);
+  std::vector<double> T(16), C(36, 0.0);
+  ToRowMajor(before, T.data());
+  e.num_changes = 1;
+  e.change_after_station = {3};
+  e.change_decided_at_station = {5};
+  e.change_T_before = {T};
+  e.change_covariance_before = {C};
+  DiagnosticReport report = DescribeExtrinsic(e);
+  EXPECT_EQ(report.level, 1);
+  EXPECT_NE(report.message.find("extrinsic changed after station 3"), std::string::npos) << report.message;
+  std::map<std::string, std::string> values(report.values.begin(), report.values.end());
+  EXPECT_EQ(values["changed_after_station"], "3");
+  EXPECT_EQ(values["before_translation_m"], "[0.1000, 0.0000, 0.0000]");
+  e.status = extrinsic_t::STATUS_CONVERGED;
+  EXPECT_EQ(DescribeExtrinsic(e).level, 0);
 }
 
 }  // namespace
