@@ -38,6 +38,7 @@ std::vector<StationLatency> StationLatencies(const SessionRecord& session, int64
       if (l.version < 0 && TookMotionTo(versions[k], id)) {
         l.version = versions[k].version;
         l.latency_s = (received[k] - end_wall) * 1e-6;
+        if (versions[k].num_changes > 0) l.changed_after_station = versions[k].change_after_station.back();
       }
       if (l.scaled_version < 0 && versions[k].scaled && UsesMotionTo(versions[k], id)) {
         l.scaled_version = versions[k].version;
@@ -77,7 +78,7 @@ std::string LatencyText(const std::vector<StationLatency>& latencies) {
 std::string WriteLatencyTable(const std::string& dir, const std::vector<StationLatency>& latencies) {
   const std::string path = dir + "/latency.csv";
   std::ostringstream file;
-  file << "station,end_s,extrinsic_version,latency_s,scaled_version,scaled_latency_s\n";
+  file << "station,end_s,extrinsic_version,latency_s,scaled_version,scaled_latency_s,changed_after_station\n";
   char line[160];
   for (const auto& l : latencies) {
     std::snprintf(line, sizeof(line), "%d,%.3f,", l.station, l.end_s);
@@ -90,7 +91,7 @@ std::string WriteLatencyTable(const std::string& dir, const std::vector<StationL
     write(l.version, l.latency_s);
     file << ",";
     write(l.scaled_version, l.scaled_latency_s);
-    file << "\n";
+    file << "," << l.changed_after_station << "\n";
   }
   WriteFileChecked(path, file.str());
   return path;

@@ -22,6 +22,7 @@ struct StationLatency {
   double latency_s = 0;     // receipt of that version - end of the station (wall clock)
   int scaled_version = -1;  // the first scaled EXTRINSIC that used such a motion; -1: none
   double scaled_latency_s = 0;
+  int changed_after_station = -1;  // the newest change of the extrinsic that version knew of; -1: none
 };
 
 // `wall_utime_of_log`: the wall-clock utime at which the player reached a log utime. Stations without a
@@ -32,8 +33,8 @@ std::vector<StationLatency> StationLatencies(const SessionRecord& session, int64
 // One line: stations answered, mean and max latency (empty when there are none).
 std::string LatencyText(const std::vector<StationLatency>& latencies);
 
-// <dir>/latency.csv: station,end_s,extrinsic_version,latency_s,scaled_version,scaled_latency_s (empty
-// latencies when never answered).
+// <dir>/latency.csv: station,end_s,extrinsic_version,latency_s,scaled_version,scaled_latency_s,
+// changed_after_station (empty latencies when never answered; -1: no change of the extrinsic known).
 std::string WriteLatencyTable(const std::string& dir, const std::vector<StationLatency>& latencies);
 
 }  // namespace fusecal
