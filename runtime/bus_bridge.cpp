@@ -20,7 +20,8 @@ uint64_t Hash(const RawMessage& message) {
 
 BusBridge::BusBridge(Bus& coordinator, Bus& stages) : coordinator_(coordinator), stages_(stages) {
   for (const auto& channel : kPipelineChannels) {
-    subscriptions_.push_back(coordinator_.SubscribeRaw(channel.name, [this](const RawMessage& m) { FromCoordinator(m); }));
+    subscriptions_.push_back(
+        coordinator_.SubscribeRaw(channel.name, [this](const RawMessage& m) { FromCoordinator(m); }));
     subscriptions_.push_back(stages_.SubscribeRaw(channel.name, [this](const RawMessage& m) { FromStages(m); }));
   }
   // Everything else (the pattern would match the pipeline's channels too: those are served above).

@@ -33,8 +33,8 @@ inline long long UrlInteger(const std::string& url, const std::string& key, cons
     if (used == value.size() && v >= lo && v <= hi) return v;
   } catch (const std::exception&) {
   }
-  throw BusError("bus URL '" + url + "': " + key + "=" + value + " is not an integer in [" + std::to_string(lo) +
-                 ", " + std::to_string(hi) + "]");
+  throw BusError("bus URL '" + url + "': " + key + "=" + value + " is not an integer in [" + std::to_string(lo) + ", " +
+                 std::to_string(hi) + "]");
 }
 
 // A bus URL taken apart and checked: the scheme, the address, and every query option against the list
@@ -62,8 +62,8 @@ inline const std::map<std::string, std::vector<BusUrlOption>>& BusUrlOptions() {
       {"udpm", {{"ttl", 0, 255}, {"recv_buf_size", 1, (1ll << 31) - 1}}},
       {"memq", {}},
       // depth: iceoryx (under DDS shared memory too) caps a subscriber queue at 256.
-      {"dds", {{"domain", 0, 232}, {"shm", 0, 1}, {"depth", 1, 256}, {"bulk_depth", 1, 256},
-               {"shm_max", 1024, 2147483647}}},
+      {"dds",
+       {{"domain", 0, 232}, {"shm", 0, 1}, {"depth", 1, 256}, {"bulk_depth", 1, 256}, {"shm_max", 1024, 2147483647}}},
       {"iox", {{"depth", 1, 256}, {"bulk_depth", 1, 256}, {"max", 1024, 4294967295ll - 64}, {"self", 0, 1}}},
       {"file", {}},
       {"tcpq", {}},
@@ -113,9 +113,9 @@ inline ParsedBusUrl ParseBusUrl(const std::string& url) {
       if (key == o.key) option = &o;
     }
     if (!option) {
-      if (parsed.scheme == "udpm" && (key == "reliable" || key == "loss" || key == "jitter_ms" ||
-                                      key == "fragment_kb" || key == "history_mb" || key == "give_up_s" ||
-                                      key == "loss_seed"))
+      if (parsed.scheme == "udpm" &&
+          (key == "reliable" || key == "loss" || key == "jitter_ms" || key == "fragment_kb" || key == "history_mb" ||
+           key == "give_up_s" || key == "loss_seed"))
         throw BusError("bus URL '" + url + "': udpm:// carries plain LCM and has no " + key +
                        "=; for lossy or routed links and several hosts use dds:// (reliable QoS)");
       throw BusError("bus URL '" + url + "': unknown parameter '" + key + "' (" + parsed.scheme + ":// takes " +

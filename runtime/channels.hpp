@@ -40,8 +40,8 @@ inline constexpr Channel<image_t> kCameraImage{"CAMERA_IMAGE", ChannelKind::kBul
 inline constexpr Channel<point_cloud_t> kLidarScan{"LIDAR_SCAN", ChannelKind::kBulk, true};
 inline constexpr Channel<camera_info_t> kCameraInfo{"CAMERA_INFO", ChannelKind::kState, false};
 inline constexpr Channel<station_t> kStation{"STATION", ChannelKind::kState, true};
-inline constexpr Channel<motion_t> kLidarMotion{"LIDAR_MOTION", ChannelKind::kState, false};    // sensor "lidar"
-inline constexpr Channel<motion_t> kCameraMotion{"CAMERA_MOTION", ChannelKind::kState, false};  // scaleless
+inline constexpr Channel<motion_t> kLidarMotion{"LIDAR_MOTION", ChannelKind::kState, false};        // sensor "lidar"
+inline constexpr Channel<motion_t> kCameraMotion{"CAMERA_MOTION", ChannelKind::kState, false};      // scaleless
 inline constexpr Channel<motion_set_t> kFusedMotions{"FUSED_MOTIONS", ChannelKind::kState, false};  // metric
 inline constexpr Channel<extrinsic_t> kExtrinsic{"EXTRINSIC", ChannelKind::kState, false};
 inline constexpr Channel<status_t> kStatus{"STATUS", ChannelKind::kState, false};  // 1 Hz heartbeat

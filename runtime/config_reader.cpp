@@ -39,9 +39,7 @@ ConfigReader ConfigReader::FromString(const std::string& text) {
   }
 }
 
-bool ConfigReader::Has(const std::string& key) const {
-  return node_ && node_.IsMap() && node_[key];
-}
+bool ConfigReader::Has(const std::string& key) const { return node_ && node_.IsMap() && node_[key]; }
 
 ConfigReader ConfigReader::Child(const std::string& key) {
   read_.insert(key);

@@ -40,8 +40,7 @@ Check<T> NonNegative() {
 template <typename T>
 Check<T> InRange(T lo, T hi) {
   return [lo, hi](const T& v) {
-    return (v >= lo && v <= hi) ? std::string()
-                                : "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    return (v >= lo && v <= hi) ? std::string() : "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
   };
 }
 Check<std::string> OneOf(std::vector<std::string> allowed);

@@ -36,8 +36,7 @@ void OnLcmMessage(const lcm_recv_buf_t* rbuf, const char* channel, void* user) {
 }  // namespace
 
 int64_t NowUtime() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
 }
 
@@ -59,13 +58,13 @@ LcmBus::~LcmBus() {
 
 void LcmBus::PublishRaw(const std::string& channel, const void* data, size_t size) {
   if (lcm_publish(lcm_, channel.c_str(), data, static_cast<unsigned int>(size)) != 0)
-    throw BusError("LCM publish failed on channel " + channel + " (" + std::to_string(size) + " bytes) over " +
-                   url_);
+    throw BusError("LCM publish failed on channel " + channel + " (" + std::to_string(size) + " bytes) over " + url_);
 }
 
 Subscription LcmBus::SubscribeRaw(const std::string& channel, RawHandler handler) {
   // A pattern is matched here (RE2), never by LCM's own regex engine: LCM hears every channel for it.
-  auto slot = std::make_unique<Slot>(Slot{this, next_slot_id_++, ChannelPattern(channel, "LCM subscribe"), std::move(handler)});
+  auto slot =
+      std::make_unique<Slot>(Slot{this, next_slot_id_++, ChannelPattern(channel, "LCM subscribe"), std::move(handler)});
   const std::string lcm_channel = slot->pattern.plain() ? channel : ".*";
   slot->subscription = lcm_subscribe(lcm_, lcm_channel.c_str(), &OnLcmMessage, slot.get());
   if (!slot->subscription) throw BusError("LCM subscribe failed for channel " + channel);
@@ -105,8 +104,8 @@ int LcmBus::Handle(int timeout_ms) {
   while (status > 0 && !pending_error_) status = lcm_handle_timeout(lcm_, 0);
   // A signal (Ctrl-C) interrupting the wait is not a socket error; file://: the log is exhausted.
   if (status < 0 && errno != EINTR && url_.rfind("file://", 0) != 0)
-    throw BusError("LCM handle failed on " + url_ + " (socket error: " +
-                   (errno ? std::string(std::strerror(errno)) : std::string("unknown")) + ")");
+    throw BusError("LCM handle failed on " + url_ +
+                   " (socket error: " + (errno ? std::string(std::strerror(errno)) : std::string("unknown")) + ")");
   if (pending_error_) {
     std::exception_ptr error = pending_error_;
     pending_error_ = nullptr;

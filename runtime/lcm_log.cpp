@@ -11,7 +11,7 @@ namespace {
 
 constexpr uint32_t kMagic = 0xEDA1DA01;
 constexpr int64_t kHeaderBytes = 28;
-constexpr int64_t kMaxChannelBytes = 256;           // LCM's own limit on channel names
+constexpr int64_t kMaxChannelBytes = 256;            // LCM's own limit on channel names
 constexpr int64_t kMaxDataBytes = int64_t(1) << 31;  // sanity bound for corrupt lengths
 
 uint32_t ReadU32(const uint8_t* p) {
@@ -78,14 +78,12 @@ std::optional<LogEvent> LogReader::Next() {
         if (!Resync(start + 1)) return std::nullopt;
         continue;
       }
-      problems_.push_back("truncated: the last event (at byte " + std::to_string(start) +
-                          ") ends inside its header");
+      problems_.push_back("truncated: the last event (at byte " + std::to_string(start) + ") ends inside its header");
       return std::nullopt;
     }
     const int64_t channel_len = ReadU32(header + 20);
     const int64_t data_len = ReadU32(header + 24);
-    if (ReadU32(header) != kMagic || channel_len <= 0 || channel_len > kMaxChannelBytes ||
-        data_len > kMaxDataBytes) {
+    if (ReadU32(header) != kMagic || channel_len <= 0 || channel_len > kMaxChannelBytes || data_len > kMaxDataBytes) {
       if (!Resync(start + 1)) return std::nullopt;
       continue;
     }
@@ -116,13 +114,13 @@ void CheckReplaceableOutput(const std::string& path) {
   struct stat info {};
   if (lstat(path.c_str(), &info) != 0) return;  // a new path
   if (S_ISREG(info.st_mode)) return;
-  const char* what = S_ISDIR(info.st_mode)   ? "a directory"
-                     : S_ISCHR(info.st_mode) ? "a character device"
-                     : S_ISBLK(info.st_mode) ? "a block device"
+  const char* what = S_ISDIR(info.st_mode)    ? "a directory"
+                     : S_ISCHR(info.st_mode)  ? "a character device"
+                     : S_ISBLK(info.st_mode)  ? "a block device"
                      : S_ISFIFO(info.st_mode) ? "a pipe"
                      : S_ISSOCK(info.st_mode) ? "a socket"
-                     : S_ISLNK(info.st_mode) ? "a symbolic link"
-                                             : "not a regular file";
+                     : S_ISLNK(info.st_mode)  ? "a symbolic link"
+                                              : "not a regular file";
   throw LogError(path + " is " + what + ": the output must be a new path or a regular file, which is replaced");
 }
 

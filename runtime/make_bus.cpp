@@ -40,8 +40,8 @@ std::unique_ptr<Bus> MakeBus(const std::string& url) {
                    "then reconfigure with -DFUSECAL_WITH_IOX=ON)");
 #endif
   }
-  throw BusError("bus URL '" + chosen + "': unknown transport '" + scheme + "' (expected one of " +
-                 BusUrlSchemes() + ")");
+  throw BusError("bus URL '" + chosen + "': unknown transport '" + scheme + "' (expected one of " + BusUrlSchemes() +
+                 ")");
 }
 
 }  // namespace fusecal

@@ -1,9 +1,9 @@
 #include "runtime/shared_memory.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/file.h>
 #include <sys/prctl.h>
-#include <signal.h>
 #include <sys/socket.h>
 #include <sys/statvfs.h>
 #include <sys/un.h>
@@ -59,10 +59,10 @@ PoolPlan PlanPools(size_t max_message_bytes, int bulk_chunks) {
   // iceoryx wants chunk sizes that are multiples of 32 bytes; whole MiB keep the TOML readable.
   const size_t bulk_chunk = (max_message_bytes + kChunkOverheadBytes + kMiB - 1) / kMiB * kMiB;
   PoolPlan plan;
-  plan.pools.push_back({16 * 1024, 1024});     // STATUS, motions, EXTRINSIC, camera info
-  plan.pools.push_back({256 * 1024, 64});      // motion sets, small images
+  plan.pools.push_back({16 * 1024, 1024});  // STATUS, motions, EXTRINSIC, camera info
+  plan.pools.push_back({256 * 1024, 64});   // motion sets, small images
   if (bulk_chunk > 2 * kMiB) plan.pools.push_back({2 * kMiB, std::max(bulk_chunks / 2, 4)});  // scans
-  plan.pools.push_back({bulk_chunk, std::max(bulk_chunks, 1)});  // images, scans, stations
+  plan.pools.push_back({bulk_chunk, std::max(bulk_chunks, 1)});                               // images, scans, stations
   return plan;
 }
 
@@ -101,9 +101,8 @@ std::string CheckPlanFits(const PoolPlan& plan, const ShmSpace& space, const std
   return dir + " has " + Megabytes(space.free_bytes) + " free of " + Megabytes(space.total_bytes) +
          " but RouDi's pools need " + Megabytes(needed) + " (" + std::to_string(plan.pools.back().count) +
          " chunks of " + Megabytes(plan.largest_chunk()) +
-         " and smaller ones): RouDi would die with SIGBUS. Fix: mount -o remount,size=" +
-         std::to_string(advise_gib) + "g " + dir + " (docker: --shm-size=" + std::to_string(advise_gib) +
-         "g), or use the network path (shm=0)";
+         " and smaller ones): RouDi would die with SIGBUS. Fix: mount -o remount,size=" + std::to_string(advise_gib) +
+         "g " + dir + " (docker: --shm-size=" + std::to_string(advise_gib) + "g), or use the network path (shm=0)";
 }
 
 bool RoudiRunning() {
@@ -152,8 +151,9 @@ void RoudiProcess::Start(double timeout_s) {
   if (const std::string problem = CheckPlanFits(plan_, QueryShmSpace()); !problem.empty())
     throw std::runtime_error(problem);
   if (!WaitUntilRoudiGone(3))  // (one told to stop just now takes a moment to end)
-    throw std::runtime_error("a RouDi that fusecal did not start is already running (socket /tmp/roudi); "
-                             "stop it, or run without shm=1");
+    throw std::runtime_error(
+        "a RouDi that fusecal did not start is already running (socket /tmp/roudi); "
+        "stop it, or run without shm=1");
   std::filesystem::create_directories(work_dir_);
   {
     std::ofstream config(config_path());
@@ -170,8 +170,8 @@ void RoudiProcess::Start(double timeout_s) {
     }
     const std::string tail = FileTail(log_path(), 1500);
     if (attempt < 3 && tail.find("ROUDI_STILL_RUNNING") != std::string::npos && WaitUntilRoudiGone(3)) continue;
-    throw std::runtime_error("iox-roudi exited at start (config " + config_path() + "); end of " + log_path() +
-                             ":\n" + tail);
+    throw std::runtime_error("iox-roudi exited at start (config " + config_path() + "); end of " + log_path() + ":\n" +
+                             tail);
   }
 }
 
@@ -181,7 +181,7 @@ bool RoudiProcess::Launch(double timeout_s) {
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("fork failed for iox-roudi");
   if (pid == 0) {
-    setpgid(0, 0);  // Ctrl-C reaches the stages, not RouDi: it is stopped after them
+    setpgid(0, 0);                     // Ctrl-C reaches the stages, not RouDi: it is stopped after them
     prctl(PR_SET_PDEATHSIG, SIGTERM);  // and it does not outlive whoever started it
     const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
     if (fd >= 0) {
@@ -199,8 +199,8 @@ bool RoudiProcess::Launch(double timeout_s) {
     if (!Alive()) return false;
     if (std::chrono::steady_clock::now() > deadline) {
       Stop(1);
-      throw std::runtime_error("iox-roudi did not answer within " + std::to_string(int(timeout_s)) +
-                               " s; end of " + log + ":\n" + FileTail(log, 1500));
+      throw std::runtime_error("iox-roudi did not answer within " + std::to_string(int(timeout_s)) + " s; end of " +
+                               log + ":\n" + FileTail(log, 1500));
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }

@@ -16,10 +16,12 @@ SharedMemoryTransport::SharedMemoryTransport(const std::string& url, size_t max_
   coordinator_url_ = iox ? kIoxCoordinatorUrl : WithUrlParameter(url, "shm", "0");
   needs_bridge_ = iox;
   if (!shm::WaitUntilRoudiGone(2)) {  // (one stopped just now takes a moment to go)
-    event_("shared memory: a RouDi that fusecal did not start is running; the stages use it (its pools must "
-           "hold messages up to " + max_key + "=" +
-           (UrlParameter(url, max_key).empty() ? std::string("4 MiB, the default") : UrlParameter(url, max_key)) +
-           "), and fusecal cannot restart it");
+    event_(
+        "shared memory: a RouDi that fusecal did not start is running; the stages use it (its pools must "
+        "hold messages up to " +
+        max_key + "=" +
+        (UrlParameter(url, max_key).empty() ? std::string("4 MiB, the default") : UrlParameter(url, max_key)) +
+        "), and fusecal cannot restart it");
     return;
   }
   const shm::PoolPlan plan = shm::PlanPools(max_message_bytes, chunks);
@@ -38,8 +40,8 @@ SharedMemoryTransport::SharedMemoryTransport(const std::string& url, size_t max_
   if (UrlParameter(url, max_key).empty())
     stage_url_ = WithUrlParameter(url, max_key, std::to_string(shm::LargestShmMessage(plan)));
   event_("shared memory: started iox-roudi (pid " + std::to_string(roudi_->pid()) + ", " +
-         std::to_string(plan.total_bytes() >> 20) + " MiB of pools, config " + roudi_->config_path() +
-         "); stages on " + stage_url_);
+         std::to_string(plan.total_bytes() >> 20) + " MiB of pools, config " + roudi_->config_path() + "); stages on " +
+         stage_url_);
 }
 
 SharedMemoryTransport::~SharedMemoryTransport() { Stop(); }

@@ -32,8 +32,7 @@ ConfigReader StageSection(const std::string& config_path, const std::string& nam
   return root.Child(name);
 }
 
-void PublishStatus(Bus& bus, const std::string& name, const StageStatus& status,
-                   const std::string& last_error) {
+void PublishStatus(Bus& bus, const std::string& name, const StageStatus& status, const std::string& last_error) {
   status_t msg{};
   msg.utime = NowUtime();
   msg.name = name;

@@ -35,8 +35,8 @@ class StageNode {
 };
 
 struct StageDefinition {
-  std::string name;         // e.g. "handeye"; STATUS is published with this name
-  std::string description;  // one line for --help
+  std::string name;            // e.g. "handeye"; STATUS is published with this name
+  std::string description;     // one line for --help
   std::string default_config;  // path used when --config is not given; may be empty
   // Builds the node from a config file path (empty: defaults). Throws ConfigError on bad config.
   std::function<std::unique_ptr<StageNode>(const std::string& config_path)> make_node;
@@ -72,7 +72,6 @@ int RunStage(int argc, char** argv, const std::string& name, const std::string& 
 }
 
 // Builds and publishes one STATUS message.
-void PublishStatus(Bus& bus, const std::string& name, const StageStatus& status,
-                   const std::string& last_error);
+void PublishStatus(Bus& bus, const std::string& name, const StageStatus& status, const std::string& last_error);
 
 }  // namespace fusecal

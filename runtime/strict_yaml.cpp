@@ -36,16 +36,15 @@ void CheckScalar(const YAML::Node& node, const std::string& text, const std::str
   if (mark.pos < 0 || static_cast<size_t>(mark.pos) >= text.size()) return;
   const char first = text[static_cast<size_t>(mark.pos)];
   if ((first == '"' || first == '\'') && ClosingQuote(text, static_cast<size_t>(mark.pos)) == std::string::npos)
-    throw YamlError(At(source, mark) + ": a quoted value opens here and is never closed (" +
-                    std::string(1, first) + " missing)");
+    throw YamlError(At(source, mark) + ": a quoted value opens here and is never closed (" + std::string(1, first) +
+                    " missing)");
 }
 
 // How many nodes the check may visit: a document without aliases has fewer nodes than characters; aliases
 // (*name) visit their anchor's nodes again, and nested ten at a time 500 bytes would make 10^9 of them.
 size_t NodeBudget(const std::string& text) { return 4 * text.size() + 1024; }
 
-void CheckNode(const YAML::Node& node, const std::string& text, const std::string& source, int depth,
-               size_t* budget) {
+void CheckNode(const YAML::Node& node, const std::string& text, const std::string& source, int depth, size_t* budget) {
   if (depth > 64) throw YamlError(At(source, node.Mark()) + ": nested more than 64 levels deep");
   if (*budget == 0)
     throw YamlError(At(source, node.Mark()) + ": aliases (*name) expand the document to more than " +

@@ -16,8 +16,8 @@
 
 #include "dds/dds.h"
 #include "fusecal_bytes.h"
-#include "runtime/channel_pattern.hpp"
 #include "runtime/bus_url.hpp"
+#include "runtime/channel_pattern.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/dds/dds_envelope.hpp"
 #include "runtime/shared_memory.hpp"
@@ -27,8 +27,8 @@ namespace fusecal {
 namespace {
 
 constexpr const char* kTypeName = "fusecal::lcm_message";
-constexpr int kDefaultDepth = 64;      // small channels: STATUS, motions, EXTRINSIC, ...
-constexpr int kDefaultBulkDepth = 8;   // images, scans, stations
+constexpr int kDefaultDepth = 64;     // small channels: STATUS, motions, EXTRINSIC, ...
+constexpr int kDefaultBulkDepth = 8;  // images, scans, stations
 constexpr int kTakeBatch = 64;
 constexpr int kBulkTakeBatch = 4;
 constexpr int kNewWriterWaitMs = 250;  // > RouDi's discovery interval (100 ms in iceoryx 2.0)
@@ -39,8 +39,7 @@ constexpr int kNewWriterWaitMs = 250;  // > RouDi's discovery interval (100 ms i
 constexpr long kDefaultShmMax = 4 * 1024 * 1024 - static_cast<long>(shm::kChunkOverheadBytes);
 
 int64_t WallUtime() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
 }
 
@@ -113,12 +112,12 @@ struct DdsBus::Impl {
   std::map<std::pair<std::string, bool>, dds_qos_t*> qos_by_channel;  // by channel and oversized (QosFor)
 
   std::mutex mutex;
-  std::map<std::string, dds_entity_t> topics;   // by channel
-  std::map<std::string, dds_entity_t> writers;  // by channel
+  std::map<std::string, dds_entity_t> topics;         // by channel
+  std::map<std::string, dds_entity_t> writers;        // by channel
   std::map<std::string, dds_entity_t> large_writers;  // by channel, for samples over shm_max (shm only)
-  std::map<dds_entity_t, uint64_t> sent;                // by writer: the last sequence number written
-  std::set<std::string> large_notice_given;             // channels whose large samples were announced
-  dds::SequenceGaps gaps;                               // by remote writer: the sequence numbers read
+  std::map<dds_entity_t, uint64_t> sent;              // by writer: the last sequence number written
+  std::set<std::string> large_notice_given;           // channels whose large samples were announced
+  dds::SequenceGaps gaps;                             // by remote writer: the sequence numbers read
   std::atomic<uint64_t> dropped{0};
   std::map<std::string, std::shared_ptr<Reader>> readers;  // by channel
   std::vector<std::shared_ptr<Sub>> subs;
@@ -214,8 +213,7 @@ struct DdsBus::Impl {
     dds_qset_history(builtin_qos, DDS_HISTORY_KEEP_ALL, 0);
     publications = dds_create_reader(participant, DDS_BUILTIN_TOPIC_DCPSPUBLICATION, builtin_qos, nullptr);
     dds_delete_qos(builtin_qos);
-    if (publications < 0)
-      throw BusError("DDS: cannot read DCPSPublication on " + url + ": " + DdsError(publications));
+    if (publications < 0) throw BusError("DDS: cannot read DCPSPublication on " + url + ": " + DdsError(publications));
     publications_condition = dds_create_readcondition(publications, DDS_ANY_STATE);
     if (publications_condition < 0 || dds_waitset_attach(waitset, publications_condition, 0) < 0)
       throw BusError("DDS: cannot wait on DCPSPublication on " + url);
@@ -260,7 +258,8 @@ struct DdsBus::Impl {
       const int batch = static_cast<int>(reader->samples.size());
       for (int i = 0; i < batch; ++i) samples[i] = &reader->samples[i];
       while (!pending_error) {
-        const int n = dds_take(reader->reader, samples, infos, static_cast<size_t>(batch), static_cast<uint32_t>(batch));
+        const int n =
+            dds_take(reader->reader, samples, infos, static_cast<size_t>(batch), static_cast<uint32_t>(batch));
         if (n <= 0) break;
         std::vector<std::shared_ptr<Sub>> matching;
         {
@@ -346,8 +345,8 @@ struct DdsBus::Impl {
   void CreateParticipant() {
     participant = dds_create_participant(domain_id, nullptr, nullptr);
     if (participant < 0)
-      throw BusError("DDS: cannot create a participant on domain " + std::to_string(domain_id) + " for " +
-                     url + ": " + DdsError(participant));
+      throw BusError("DDS: cannot create a participant on domain " + std::to_string(domain_id) + " for " + url + ": " +
+                     DdsError(participant));
     waitset = dds_create_waitset(participant);
     if (waitset < 0) throw BusError("DDS: cannot create a waitset for " + url);
   }
@@ -390,11 +389,9 @@ void DdsBus::PublishRaw(const std::string& channel, const void* data, size_t siz
     if (it == writers.end()) {
       // A pattern subscription of this bus must read the channel before the first sample is written.
       d.OnTopicLocked(channel);
-      writer = dds_create_writer(d.participant, d.TopicLocked(channel), d.QosFor(channel, large),
-                                 nullptr);
+      writer = dds_create_writer(d.participant, d.TopicLocked(channel), d.QosFor(channel, large), nullptr);
       if (writer < 0)
-        throw BusError("DDS: cannot create a writer for channel " + channel + " on " + d.url + ": " +
-                       DdsError(writer));
+        throw BusError("DDS: cannot create a writer for channel " + channel + " on " + d.url + ": " + DdsError(writer));
       writers[channel] = writer;
       new_writer = true;
     } else {
@@ -416,8 +413,8 @@ void DdsBus::PublishRaw(const std::string& channel, const void* data, size_t siz
   message.data._release = false;
   const dds_return_t rc = dds_write(writer, &message);
   if (rc < 0)
-    throw BusError("DDS publish failed on channel " + channel + " (" + std::to_string(size) + " bytes) over " +
-                   d.url + ": " + DdsError(rc));
+    throw BusError("DDS publish failed on channel " + channel + " (" + std::to_string(size) + " bytes) over " + d.url +
+                   ": " + DdsError(rc));
 }
 
 Subscription DdsBus::SubscribeRaw(const std::string& channel, RawHandler handler) {

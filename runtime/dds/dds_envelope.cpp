@@ -27,7 +27,8 @@ std::string ChannelName(const std::string& topic) {
     name.erase(0, 1);
   std::string channel;
   for (size_t i = 0; i < name.size(); ++i) {
-    if (name[i] == '_' && i + 3 < name.size() && name[i + 1] == 'x' && std::isxdigit(static_cast<unsigned char>(name[i + 2])) &&
+    if (name[i] == '_' && i + 3 < name.size() && name[i + 1] == 'x' &&
+        std::isxdigit(static_cast<unsigned char>(name[i + 2])) &&
         std::isxdigit(static_cast<unsigned char>(name[i + 3]))) {
       channel += static_cast<char>(std::stoi(name.substr(i + 2, 2), nullptr, 16));
       i += 3;

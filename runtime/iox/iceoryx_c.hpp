@@ -2,9 +2,9 @@
 // with C linkage), so they are included here inside one. Include this instead of the binding's headers.
 #pragma once
 
+#include <time.h>
 #include <cstdint>  // (pulled in by the headers below; included first, outside extern "C")
 #include <ctime>
-#include <time.h>
 
 extern "C" {
 #include "iceoryx_binding_c/chunk.h"

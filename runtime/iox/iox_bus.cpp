@@ -14,11 +14,11 @@
 #include <thread>
 #include <vector>
 
-#include "runtime/iox/iceoryx_c.hpp"
 #include "iceoryx_posh/mepoo/chunk_header.hpp"
-#include "runtime/channel_pattern.hpp"
 #include "runtime/bus_url.hpp"
+#include "runtime/channel_pattern.hpp"
 #include "runtime/channels.hpp"
+#include "runtime/iox/iceoryx_c.hpp"
 #include "runtime/iox/iox_chunk.hpp"
 #include "runtime/iox/iox_runtime.hpp"
 #include "runtime/shared_memory.hpp"
@@ -44,7 +44,8 @@ std::atomic<uint64_t> g_bus_count{0};
 
 // The payload bytes of a chunk a subscriber took (from iceoryx's chunk header).
 size_t PayloadBytes(const void* payload) {
-  const auto* header = reinterpret_cast<const ::iox::mepoo::ChunkHeader*>(iox_chunk_header_from_user_payload_const(payload));
+  const auto* header =
+      reinterpret_cast<const ::iox::mepoo::ChunkHeader*>(iox_chunk_header_from_user_payload_const(payload));
   return header->userPayloadSize();
 }
 
@@ -106,8 +107,8 @@ struct IoxBus::Impl {
   iox_service_discovery_t discovery = nullptr;
   Clock::time_point last_discovery{};
 
-  std::mutex mutex;         // subs, readers, discovery
-  std::mutex publish_mutex;  // writers (a publisher is not thread-safe)
+  std::mutex mutex;                                        // subs, readers, discovery
+  std::mutex publish_mutex;                                // writers (a publisher is not thread-safe)
   std::map<std::string, std::unique_ptr<Writer>> writers;  // by channel
   std::vector<std::shared_ptr<Sub>> subs;
   std::atomic<uint64_t> dropped{0};

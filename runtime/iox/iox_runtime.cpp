@@ -11,8 +11,8 @@
 #include <sstream>
 #include <vector>
 
-#include "runtime/iox/iceoryx_c.hpp"
 #include "runtime/bus.hpp"
+#include "runtime/iox/iceoryx_c.hpp"
 #include "runtime/shared_memory.hpp"
 
 namespace fusecal::iox {
@@ -118,8 +118,9 @@ void EnsureRuntime(const std::string& what) {
     throw BusError(what + ": no iceoryx RouDi is running (start iox-roudi, or use `fusecal run`, which starts one)");
   if (g_registered) {
     if (RoudiInode() != g_roudi_inode)
-      throw BusError(what + ": the RouDi this process registered with has been replaced by a new one; iceoryx "
-                            "cannot move a process to another RouDi: restart the process");
+      throw BusError(what +
+                     ": the RouDi this process registered with has been replaced by a new one; iceoryx "
+                     "cannot move a process to another RouDi: restart the process");
     return;
   }
   g_roudi_inode = RoudiInode();

@@ -6,8 +6,7 @@
 
 namespace fusecal::camera_frontend {
 
-bool TangentCovariance(ceres::Problem* problem, const std::vector<double*>& blocks,
-                       Eigen::MatrixXd* covariance) {
+bool TangentCovariance(ceres::Problem* problem, const std::vector<double*>& blocks, Eigen::MatrixXd* covariance) {
   ceres::Problem::EvaluateOptions options;
   options.parameter_blocks = blocks;
   options.apply_loss_function = true;

@@ -15,7 +15,6 @@ namespace fusecal::camera_frontend {
 // given parameter blocks, in this order (Ceres' Problem::Evaluate applies the manifolds). It assumes unit
 // residual variance: scale it by the residual variance. False when J^T J is rank deficient (reciprocal
 // condition number below 1e-12) or not finite.
-bool TangentCovariance(ceres::Problem* problem, const std::vector<double*>& blocks,
-                       Eigen::MatrixXd* covariance);
+bool TangentCovariance(ceres::Problem* problem, const std::vector<double*>& blocks, Eigen::MatrixXd* covariance);
 
 }  // namespace fusecal::camera_frontend

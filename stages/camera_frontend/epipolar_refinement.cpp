@@ -73,8 +73,8 @@ EpipolarRefinement RefineEpipolar(const Bearings& f_i, const Bearings& f_j, cons
   ceres::CauchyLoss loss(loss_scale_rad);
   for (int k : inliers) {
     problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<EpipolarAngleCost, 1, 4, 3>(new EpipolarAngleCost(f_i[k], f_j[k])),
-        &loss, q, t);
+        new ceres::AutoDiffCostFunction<EpipolarAngleCost, 1, 4, 3>(new EpipolarAngleCost(f_i[k], f_j[k])), &loss, q,
+        t);
   }
   problem.SetManifold(q, new ceres::EigenQuaternionManifold);
   problem.SetManifold(t, new ceres::SphereManifold<3>);

@@ -52,12 +52,11 @@ std::vector<int> SelectKeypointsByGrid(const std::vector<cv::KeyPoint>& keypoint
 std::string CheckImage(const cv::Mat& image, const CameraModel& camera) {
   if (image.empty()) return "image is empty";
   if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3 && image.channels() != 4))
-    return "unsupported image type (expected 8-bit grey, BGR or BGRA), got " +
-           std::to_string(image.channels()) + " channel(s) of depth code " + std::to_string(image.depth());
+    return "unsupported image type (expected 8-bit grey, BGR or BGRA), got " + std::to_string(image.channels()) +
+           " channel(s) of depth code " + std::to_string(image.depth());
   if (image.cols != camera.width() || image.rows != camera.height())
     return "image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-           " but the camera model expects " + std::to_string(camera.width()) + "x" +
-           std::to_string(camera.height());
+           " but the camera model expects " + std::to_string(camera.width()) + "x" + std::to_string(camera.height());
   return {};
 }
 
@@ -72,9 +71,8 @@ cv::Mat ToGrey(const cv::Mat& image) {
 
 void Detect(const cv::Mat& grey, const cv::Mat& mask, const CameraModel& camera, const FeatureSettings& s,
             std::vector<cv::KeyPoint>* keypoints, cv::Mat* descriptors) {
-  cv::Ptr<cv::AKAZE> akaze =
-      cv::AKAZE::create(cv::AKAZE::DESCRIPTOR_MLDB, 0, 3, static_cast<float>(s.akaze_threshold),
-                        s.akaze_octaves, s.akaze_octave_layers);
+  cv::Ptr<cv::AKAZE> akaze = cv::AKAZE::create(cv::AKAZE::DESCRIPTOR_MLDB, 0, 3, static_cast<float>(s.akaze_threshold),
+                                               s.akaze_octaves, s.akaze_octave_layers);
   const int pad = camera.WrapsHorizontally() ? std::min(s.seam_padding_px, grey.cols / 2) : 0;
   if (pad == 0) {
     akaze->detectAndCompute(grey, mask, *keypoints, *descriptors);
@@ -99,8 +97,7 @@ void Detect(const cv::Mat& grey, const cv::Mat& mask, const CameraModel& camera,
     keep.push_back(k);
   }
   *descriptors = cv::Mat(static_cast<int>(keep.size()), all_descriptors.cols, all_descriptors.type());
-  for (int r = 0; r < static_cast<int>(keep.size()); ++r)
-    all_descriptors.row(keep[r]).copyTo(descriptors->row(r));
+  for (int r = 0; r < static_cast<int>(keep.size()); ++r) all_descriptors.row(keep[r]).copyTo(descriptors->row(r));
 }
 
 // Detect on the image scaled by settings.detection_scale, keypoints in pixels of the full image (pixel
@@ -127,8 +124,7 @@ void DetectScaled(const cv::Mat& grey, const cv::Mat& mask, const CameraModel& c
 
 }  // namespace
 
-ImageFeatures ExtractImageFeatures(const cv::Mat& image, const CameraModel& camera,
-                                   const FeatureSettings& settings) {
+ImageFeatures ExtractImageFeatures(const cv::Mat& image, const CameraModel& camera, const FeatureSettings& settings) {
   const auto start = std::chrono::steady_clock::now();
   ImageFeatures out;
   out.width = image.cols;

@@ -27,10 +27,10 @@ enum class FeatureFailure {
 struct ImageFeatures {
   int width = 0;  // size of the image they come from
   int height = 0;
-  std::vector<cv::KeyPoint> keypoints;    // pixel convention of camera_model.hpp
-  cv::Mat descriptors;                    // CV_8U, one binary (MLDB) descriptor per row
-  std::vector<Eigen::Vector3d> bearings;  // unit bearing of each keypoint, camera frame
-  int detected = 0;                       // keypoints AKAZE found in the mask, before the budget
+  std::vector<cv::KeyPoint> keypoints;     // pixel convention of camera_model.hpp
+  cv::Mat descriptors;                     // CV_8U, one binary (MLDB) descriptor per row
+  std::vector<Eigen::Vector3d> bearings;   // unit bearing of each keypoint, camera frame
+  int detected = 0;                        // keypoints AKAZE found in the mask, before the budget
   Failure<FeatureFailure> failure_reason;  // when not usable the vectors are empty
   double seconds = 0.0;
 

@@ -74,8 +74,7 @@ inline bool InFrontOrDistant(const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
 // |sin e| <= sin threshold), sin^2 threshold otherwise; e is the angle to the epipolar plane. Written
 // without asin and sqrt: this is the inner loop of the RANSAC.
 inline double MsacCost(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Vector3d& f_i,
-                       const Eigen::Vector3d& f_j, double threshold_rad, double sin2_threshold,
-                       bool* inlier) {
+                       const Eigen::Vector3d& f_j, double threshold_rad, double sin2_threshold, bool* inlier) {
   const Eigen::Vector3d n = t.cross(R * f_j);
   const double n2 = n.squaredNorm();
   const double d = f_i.dot(n);
@@ -96,8 +95,7 @@ int RequiredIterations(double inlier_ratio, int sample_size, double probability,
 
 bool IsEpipolarInlier(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const Eigen::Vector3d& f_i,
                       const Eigen::Vector3d& f_j, double threshold_rad) {
-  return std::abs(EpipolarAngle(R, t, f_i, f_j)) <= threshold_rad &&
-         InFrontOrDistant(R, t, f_i, f_j, threshold_rad);
+  return std::abs(EpipolarAngle(R, t, f_i, f_j)) <= threshold_rad && InFrontOrDistant(R, t, f_i, f_j, threshold_rad);
 }
 
 std::vector<int> EpipolarInliers(const Bearings& f_i, const Bearings& f_j, const Eigen::Matrix3d& R,
@@ -108,8 +106,7 @@ std::vector<int> EpipolarInliers(const Bearings& f_i, const Bearings& f_j, const
   return inliers;
 }
 
-std::vector<std::pair<Eigen::Matrix3d, Eigen::Vector3d>> FivePointMotions(const Bearings& f_i,
-                                                                          const Bearings& f_j,
+std::vector<std::pair<Eigen::Matrix3d, Eigen::Vector3d>> FivePointMotions(const Bearings& f_i, const Bearings& f_j,
                                                                           const std::vector<int>& sample,
                                                                           const std::string& algorithm) {
   const opengv::bearingVectors_t b_i = ToOpengv(f_i), b_j = ToOpengv(f_j);
@@ -153,8 +150,8 @@ RansacResult FivePointRansac(const Bearings& f_i, const Bearings& f_j, const Ran
         best_inliers = inliers;
         out.R = R;
         out.t = t;
-        needed = std::min(needed, RequiredIterations(static_cast<double>(best_inliers) / n, 5,
-                                                     settings.probability, settings.max_iterations));
+        needed = std::min(needed, RequiredIterations(static_cast<double>(best_inliers) / n, 5, settings.probability,
+                                                     settings.max_iterations));
       }
     }
   }

@@ -31,8 +31,7 @@ struct RansacResult {
 // Motions (R, t), A = T_ci_cj, whose essential matrix [t]x R satisfies f_i^T [t]x R f_j = 0 on the given
 // correspondences (5 of them), one per real solution of the minimal solver: of the four motions sharing an
 // essential matrix, the one with the sample in front of both cameras.
-std::vector<std::pair<Eigen::Matrix3d, Eigen::Vector3d>> FivePointMotions(const Bearings& f_i,
-                                                                          const Bearings& f_j,
+std::vector<std::pair<Eigen::Matrix3d, Eigen::Vector3d>> FivePointMotions(const Bearings& f_i, const Bearings& f_j,
                                                                           const std::vector<int>& sample,
                                                                           const std::string& algorithm);
 

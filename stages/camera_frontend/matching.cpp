@@ -21,8 +21,7 @@ PackedDescriptors Pack(const cv::Mat& d) {
   p.rows = d.rows;
   p.words = static_cast<int>((d.cols + 7) / 8);
   p.data.assign(static_cast<size_t>(p.rows) * p.words, 0);
-  for (int r = 0; r < d.rows; ++r)
-    std::memcpy(p.data.data() + static_cast<size_t>(r) * p.words, d.ptr(r), d.cols);
+  for (int r = 0; r < d.rows; ++r) std::memcpy(p.data.data() + static_cast<size_t>(r) * p.words, d.ptr(r), d.cols);
   return p;
 }
 
@@ -35,8 +34,7 @@ struct Nearest {
 // One pass over all pairs: the two nearest j for every i, the nearest i for every j. Always inlined, so that
 // __builtin_popcountll compiles to the popcnt instruction inside the function with target("popcnt").
 __attribute__((always_inline)) inline void AllPairs(const PackedDescriptors& a, const PackedDescriptors& b,
-                                                    std::vector<Nearest>* forward,
-                                                    std::vector<Nearest>* backward) {
+                                                    std::vector<Nearest>* forward, std::vector<Nearest>* backward) {
   for (int i = 0; i < a.rows; ++i) {
     const std::uint64_t* x = a.row(i);
     Nearest& f = (*forward)[i];
@@ -68,8 +66,7 @@ void AllPairsGeneric(const PackedDescriptors& a, const PackedDescriptors& b, std
 #if defined(__GNUC__) && defined(__x86_64__)
 #define FUSECAL_HAVE_POPCNT_DISPATCH 1
 __attribute__((target("popcnt"))) void AllPairsPopcnt(const PackedDescriptors& a, const PackedDescriptors& b,
-                                                      std::vector<Nearest>* forward,
-                                                      std::vector<Nearest>* backward) {
+                                                      std::vector<Nearest>* forward, std::vector<Nearest>* backward) {
   AllPairs(a, b, forward, backward);
 }
 #endif

@@ -22,9 +22,7 @@ using camera_frontend::Bearings;
 using Clock = std::chrono::steady_clock;
 using Code = RelativePoseFailure;
 
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 constexpr double kDeg = 180.0 / M_PI;
 // Under near-pure rotation, the essential-matrix rotation is used when it lies within this angle of the
@@ -48,18 +46,16 @@ struct EssentialModel {
 };
 
 // RANSAC model -> rounds of (refine on inliers, fix chirality, re-select inliers).
-EssentialModel RefineEssential(const Bearings& f_i, const Bearings& f_j,
-                               const camera_frontend::RansacResult& ransac, const CameraFrontendSettings& s,
-                               double threshold_rad, double loss_rad) {
+EssentialModel RefineEssential(const Bearings& f_i, const Bearings& f_j, const camera_frontend::RansacResult& ransac,
+                               const CameraFrontendSettings& s, double threshold_rad, double loss_rad) {
   EssentialModel m;
   m.R = ransac.R;
   m.t = ransac.t;
   m.inliers = ransac.inliers;
   for (int round = 0; round < s.refinement.rounds; ++round) {
     const bool last = round + 1 == s.refinement.rounds;
-    auto refined =
-        camera_frontend::RefineEpipolar(f_i, f_j, m.inliers, m.R, m.t, loss_rad, s.refinement.max_iterations,
-                                        last && s.refinement.compute_covariance);
+    auto refined = camera_frontend::RefineEpipolar(f_i, f_j, m.inliers, m.R, m.t, loss_rad, s.refinement.max_iterations,
+                                                   last && s.refinement.compute_covariance);
     if (!refined.ok) return m;  // m.ok stays false
     m.R = refined.R;
     m.t = refined.t;
@@ -81,8 +77,7 @@ Failure<Code> CheckFeatures(const ImageFeatures& fi, const ImageFeatures& fj, co
       return {Code::kFeaturesMismatch, "features come from a " + std::to_string(f->width) + "x" +
                                            std::to_string(f->height) + " image but the camera model expects " +
                                            std::to_string(camera.width()) + "x" + std::to_string(camera.height())};
-    if (f->bearings.size() != f->keypoints.size() ||
-        f->descriptors.rows != static_cast<int>(f->keypoints.size()))
+    if (f->bearings.size() != f->keypoints.size() || f->descriptors.rows != static_cast<int>(f->keypoints.size()))
       return {Code::kFeaturesMismatch, "inconsistent features: keypoints, descriptors and bearings differ in number"};
   }
   return {};
@@ -97,12 +92,10 @@ double MaxStdDeg(const Eigen::Matrix3d& covariance) {
 // Why the translation direction cannot be trusted (near-pure rotation), or empty when it can. The parallax
 // is the median residual of the rotation-only model over the inliers: a translation that explains no more
 // than noise (or than a fraction of a pixel) is not observed.
-std::string TranslationUnreliableReason(const EssentialModel& model, bool rotation_explains_more,
-                                        double parallax_rad, double epipolar_rad, double pixel_rad,
-                                        const CameraFrontendSettings& s) {
+std::string TranslationUnreliableReason(const EssentialModel& model, bool rotation_explains_more, double parallax_rad,
+                                        double epipolar_rad, double pixel_rad, const CameraFrontendSettings& s) {
   if (!model.ok) return "the essential matrix could not be estimated";
-  if (rotation_explains_more)
-    return "the rotation-only model explains more matches than the essential matrix";
+  if (rotation_explains_more) return "the rotation-only model explains more matches than the essential matrix";
   if (parallax_rad < s.min_parallax_px * pixel_rad)
     return "median parallax " + Fixed(parallax_rad * kDeg) + " deg < min_parallax_px (" +
            Fixed(s.min_parallax_px * pixel_rad * kDeg) + " deg)";
@@ -125,10 +118,10 @@ std::string TooFewMatchesReason(const RelativePoseResult& r, int min_inliers) {
 
 // Why no model is supported: the larger inlier count (refined essential model, rotation-only RANSAC) is
 // below min_inliers.
-std::string TooFewInliersReason(const EssentialModel& model, const camera_frontend::RansacResult& rot,
-                                int min_inliers, int matches) {
-  return "too few inliers: " + std::to_string(std::max(model.inliers.size(), rot.inliers.size())) +
-         " < min_inliers " + std::to_string(min_inliers) + " (" + std::to_string(matches) + " matches)";
+std::string TooFewInliersReason(const EssentialModel& model, const camera_frontend::RansacResult& rot, int min_inliers,
+                                int matches) {
+  return "too few inliers: " + std::to_string(std::max(model.inliers.size(), rot.inliers.size())) + " < min_inliers " +
+         std::to_string(min_inliers) + " (" + std::to_string(matches) + " matches)";
 }
 
 // The bearings of the matched keypoints, f_i[k] and f_j[k] for matches[k].
@@ -227,8 +220,7 @@ RelativePoseResult Estimate(const ImageFeatures& fi, const ImageFeatures& fj, co
 
   // Matching (paper III-A-1).
   auto t0 = Clock::now();
-  const std::vector<cv::DMatch> matches =
-      camera_frontend::MatchDescriptors(fi.descriptors, fj.descriptors, s.matching);
+  const std::vector<cv::DMatch> matches = camera_frontend::MatchDescriptors(fi.descriptors, fj.descriptors, s.matching);
   r.seconds_matching = SecondsSince(t0);
   r.matches = static_cast<int>(matches.size());
   if (r.matches < s.min_inliers) return fail(Code::kTooFewMatches, TooFewMatchesReason(r, s.min_inliers));
@@ -253,14 +245,14 @@ RelativePoseResult Estimate(const ImageFeatures& fi, const ImageFeatures& fj, co
     r.seconds_refinement = SecondsSince(t0);
     return fail(Code::kTooFewInliers, TooFewInliersReason(model, rot, s.min_inliers, r.matches));
   }
-  const auto rotation_fit = camera_frontend::FitRotationOnly(
-      f_i, f_j, support, loss, s.refinement.max_iterations, s.refinement.compute_covariance);
+  const auto rotation_fit = camera_frontend::FitRotationOnly(f_i, f_j, support, loss, s.refinement.max_iterations,
+                                                             s.refinement.compute_covariance);
   r.seconds_refinement = SecondsSince(t0);
   r.median_parallax_deg = rotation_fit.median_residual_rad * kDeg;
   const double epipolar = model.ok ? MedianEpipolarError(model, f_i, f_j) : 0.0;
   if (model.ok) r.median_epipolar_error_deg = epipolar * kDeg;
-  const std::string unreliable = TranslationUnreliableReason(
-      model, rotation_explains_more, rotation_fit.median_residual_rad, epipolar, pixel, s);
+  const std::string unreliable =
+      TranslationUnreliableReason(model, rotation_explains_more, rotation_fit.median_residual_rad, epipolar, pixel, s);
 
   r.valid = true;
   r.failure_reason = {};
@@ -293,8 +285,8 @@ RelativePoseResult EstimateRelativePose(const ImageFeatures& features_i, const I
   return r;
 }
 
-RelativePoseResult EstimateRelativePose(const cv::Mat& image_i, const cv::Mat& image_j,
-                                        const CameraModel& camera, const CameraFrontendSettings& settings) {
+RelativePoseResult EstimateRelativePose(const cv::Mat& image_i, const cv::Mat& image_j, const CameraModel& camera,
+                                        const CameraFrontendSettings& settings) {
   const auto start = Clock::now();
   RelativePoseResult r;
   if (std::string e = settings.Validate(); !e.empty()) {

@@ -95,13 +95,11 @@ struct RelativePoseResult {
 };
 
 // Motion between two images of the same camera (8-bit grey, BGR or BGRA, the camera's size).
-RelativePoseResult EstimateRelativePose(const cv::Mat& image_i, const cv::Mat& image_j,
-                                        const CameraModel& camera,
+RelativePoseResult EstimateRelativePose(const cv::Mat& image_i, const cv::Mat& image_j, const CameraModel& camera,
                                         const CameraFrontendSettings& settings = {});
 
 // Same from features extracted beforehand with ExtractImageFeatures (lets a caller extract each image once).
 RelativePoseResult EstimateRelativePose(const ImageFeatures& features_i, const ImageFeatures& features_j,
-                                        const CameraModel& camera,
-                                        const CameraFrontendSettings& settings = {});
+                                        const CameraModel& camera, const CameraFrontendSettings& settings = {});
 
 }  // namespace fusecal

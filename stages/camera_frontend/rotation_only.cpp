@@ -43,8 +43,7 @@ RotationOnlyFit FitRotationOnly(const Bearings& f_i, const Bearings& f_j, const 
   ceres::CauchyLoss loss(loss_scale_rad);
   for (int k : indices) {
     problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<RotationChordCost, 3, 4>(new RotationChordCost(f_i[k], f_j[k])),
-        &loss, q);
+        new ceres::AutoDiffCostFunction<RotationChordCost, 3, 4>(new RotationChordCost(f_i[k], f_j[k])), &loss, q);
   }
   problem.SetManifold(q, new ceres::EigenQuaternionManifold);
   ceres::Solver::Options options;

@@ -15,17 +15,17 @@ namespace {
 
 cv::Mat DecodeRaw(const image_t& msg, int channels) {
   if (msg.width <= 0 || msg.height <= 0)
-    throw ConversionError("image of " + msg.encoding + " has no size (" + std::to_string(msg.width) +
-                          "x" + std::to_string(msg.height) + ")");
+    throw ConversionError("image of " + msg.encoding + " has no size (" + std::to_string(msg.width) + "x" +
+                          std::to_string(msg.height) + ")");
   const int64_t row_bytes = int64_t(msg.width) * channels;
   const int64_t step = msg.step > 0 ? msg.step : row_bytes;
   // Divided, not multiplied: step x height can exceed 64 bits (found by fuzzing: 5105605947 x 1869479942).
   if (step < row_bytes || int64_t(msg.data.size()) / step < msg.height)
-    throw ConversionError("image " + std::to_string(msg.width) + "x" + std::to_string(msg.height) + " " +
-                          msg.encoding + " needs " + std::to_string(msg.height) + " rows of " + std::to_string(step) +
-                          " bytes, has " + std::to_string(msg.data.size()) + " bytes");
-  const cv::Mat view(msg.height, msg.width, CV_8UC(channels),
-                     const_cast<uint8_t*>(msg.data.data()), static_cast<size_t>(step));
+    throw ConversionError("image " + std::to_string(msg.width) + "x" + std::to_string(msg.height) + " " + msg.encoding +
+                          " needs " + std::to_string(msg.height) + " rows of " + std::to_string(step) + " bytes, has " +
+                          std::to_string(msg.data.size()) + " bytes");
+  const cv::Mat view(msg.height, msg.width, CV_8UC(channels), const_cast<uint8_t*>(msg.data.data()),
+                     static_cast<size_t>(step));
   return view.clone();
 }
 
@@ -62,8 +62,7 @@ cv::Mat ImageToMat(const image_t& msg) {
     if (decoded.channels() == 4) cv::cvtColor(decoded, decoded, cv::COLOR_BGRA2BGR);
     return decoded;
   }
-  throw ConversionError("unknown image encoding '" + msg.encoding +
-                        "' (expected mono8, rgb8, bgr8, jpeg or png)");
+  throw ConversionError("unknown image encoding '" + msg.encoding + "' (expected mono8, rgb8, bgr8, jpeg or png)");
 }
 
 int64_t PeekUtime(const uint8_t* data, size_t size) {
@@ -77,21 +76,22 @@ cv::Mat ImageToMatReduced(const image_t& msg, int min_width) {
   if (msg.encoding != "jpeg") return ImageToMat(msg);
   CheckCompressedImage(msg);
   int flag = cv::IMREAD_GRAYSCALE;
-  if (msg.width >= 8 * min_width) flag = cv::IMREAD_REDUCED_GRAYSCALE_8;
-  else if (msg.width >= 4 * min_width) flag = cv::IMREAD_REDUCED_GRAYSCALE_4;
-  else if (msg.width >= 2 * min_width) flag = cv::IMREAD_REDUCED_GRAYSCALE_2;
+  if (msg.width >= 8 * min_width)
+    flag = cv::IMREAD_REDUCED_GRAYSCALE_8;
+  else if (msg.width >= 4 * min_width)
+    flag = cv::IMREAD_REDUCED_GRAYSCALE_4;
+  else if (msg.width >= 2 * min_width)
+    flag = cv::IMREAD_REDUCED_GRAYSCALE_2;
   cv::Mat decoded = cv::imdecode(msg.data, flag);
   if (decoded.empty()) throw ConversionError("corrupt jpeg image data");
   return decoded;
 }
 
-image_t MatToImage(const cv::Mat& image, const std::string& encoding, int64_t utime,
-                   const std::string& frame_id) {
+image_t MatToImage(const cv::Mat& image, const std::string& encoding, int64_t utime, const std::string& frame_id) {
   if (image.empty()) throw ConversionError("cannot encode an empty image");
   if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3))
     throw ConversionError("only 8-bit grey or BGR images can be encoded");
-  if (!IsKnownImageEncoding(encoding))
-    throw ConversionError("unknown image encoding '" + encoding + "'");
+  if (!IsKnownImageEncoding(encoding)) throw ConversionError("unknown image encoding '" + encoding + "'");
   image_t msg{};
   msg.utime = utime;
   msg.frame_id = frame_id;
@@ -144,8 +144,8 @@ point_cloud_t CloudToMsg(const PointCloud& cloud, int64_t utime, const std::stri
   const size_t n = cloud.size();
   for (size_t count : {cloud.intensity.size(), cloud.ring.size(), cloud.time_offset_s.size()})
     if (count != 0 && count != n)
-      throw ConversionError("point cloud optional field length " + std::to_string(count) +
-                            " does not match " + std::to_string(n) + " points");
+      throw ConversionError("point cloud optional field length " + std::to_string(count) + " does not match " +
+                            std::to_string(n) + " points");
   point_cloud_t msg{};
   msg.utime = utime;
   msg.frame_id = frame_id;

@@ -4,9 +4,9 @@
 #include <limits>
 #include <stdexcept>
 
+#include "formats/result_file.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
-#include "formats/result_file.hpp"
 
 namespace fusecal {
 
@@ -94,7 +94,8 @@ TruthExtrinsic TruthExtrinsicAtEnd(const std::vector<ground_truth_t>& truths) {
 ReferenceExtrinsic ReadReference(const std::string& path, std::optional<int64_t> at_utime) {
   if (IsResultFilePath(path)) {
     if (at_utime)
-      throw std::runtime_error(path + ": a result file holds one extrinsic, with no time; choosing the "
+      throw std::runtime_error(path +
+                               ": a result file holds one extrinsic, with no time; choosing the "
                                "extrinsic in force at a utime needs a log with GROUND_TRUTH");
     return {ReadResultFile(path).T_camera_lidar, std::nullopt};
   }

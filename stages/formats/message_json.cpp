@@ -29,9 +29,8 @@ OrderedJson Fixed(const double (&a)[N]) {
 }
 
 OrderedJson ToJson(const image_t& m, bool full) {
-  return {{"utime", m.utime},       {"frame_id", m.frame_id}, {"width", m.width},
-          {"height", m.height},     {"step", m.step},         {"encoding", m.encoding},
-          {"size", m.size},         {"data", Bulk(m.data, full)}};
+  return {{"utime", m.utime}, {"frame_id", m.frame_id}, {"width", m.width}, {"height", m.height},
+          {"step", m.step},   {"encoding", m.encoding}, {"size", m.size},   {"data", Bulk(m.data, full)}};
 }
 
 OrderedJson ToJson(const point_cloud_t& m, bool full) {
@@ -47,9 +46,8 @@ OrderedJson ToJson(const point_cloud_t& m, bool full) {
 }
 
 OrderedJson ToJson(const camera_info_t& m, bool) {
-  return {{"utime", m.utime}, {"model", m.model}, {"width", m.width}, {"height", m.height},
-          {"fx", m.fx},       {"fy", m.fy},       {"cx", m.cx},       {"cy", m.cy},
-          {"dist", Fixed(m.dist)}};
+  return {{"utime", m.utime}, {"model", m.model}, {"width", m.width}, {"height", m.height},   {"fx", m.fx},
+          {"fy", m.fy},       {"cx", m.cx},       {"cy", m.cy},       {"dist", Fixed(m.dist)}};
 }
 
 OrderedJson ToJson(const station_t& m, bool full) {
@@ -63,21 +61,11 @@ OrderedJson ToJson(const station_t& m, bool full) {
 }
 
 OrderedJson ToJson(const motion_t& m, bool) {
-  return {{"utime", m.utime},
-          {"station_i", m.station_i},
-          {"station_j", m.station_j},
-          {"sensor", m.sensor},
-          {"valid", m.valid},
-          {"failure_reason", m.failure_reason},
-          {"T_i_j", Fixed(m.T_i_j)},
-          {"scaled", m.scaled},
-          {"covariance", Fixed(m.covariance)},
-          {"inliers", m.inliers},
-          {"fitness", m.fitness},
-          {"rmse", m.rmse},
-          {"iterations", m.iterations},
-          {"seconds", m.seconds},
-          {"extrinsic_version", m.extrinsic_version}};
+  return {{"utime", m.utime},           {"station_i", m.station_i}, {"station_j", m.station_j},
+          {"sensor", m.sensor},         {"valid", m.valid},         {"failure_reason", m.failure_reason},
+          {"T_i_j", Fixed(m.T_i_j)},    {"scaled", m.scaled},       {"covariance", Fixed(m.covariance)},
+          {"inliers", m.inliers},       {"fitness", m.fitness},     {"rmse", m.rmse},
+          {"iterations", m.iterations}, {"seconds", m.seconds},     {"extrinsic_version", m.extrinsic_version}};
 }
 
 OrderedJson ToJson(const motion_set_t& m, bool full) {
@@ -120,8 +108,12 @@ OrderedJson ToJson(const status_t& m, bool) {
   OrderedJson counters = OrderedJson::object();
   for (size_t i = 0; i < m.counter_names.size() && i < m.counter_values.size(); ++i)
     counters[m.counter_names[i]] = m.counter_values[i];
-  return {{"utime", m.utime}, {"name", m.name},          {"host", m.host},
-          {"pid", m.pid},     {"state", m.state},        {"counters", counters},
+  return {{"utime", m.utime},
+          {"name", m.name},
+          {"host", m.host},
+          {"pid", m.pid},
+          {"state", m.state},
+          {"counters", counters},
           {"last_error", m.last_error}};
 }
 
@@ -151,9 +143,8 @@ std::pair<int64_t, std::pair<std::string, Decoder>> Entry() {
 
 const std::map<int64_t, std::pair<std::string, Decoder>>& Registry() {
   static const std::map<int64_t, std::pair<std::string, Decoder>> registry = {
-      Entry<image_t>(),   Entry<point_cloud_t>(), Entry<camera_info_t>(), Entry<station_t>(),
-      Entry<motion_t>(),  Entry<motion_set_t>(),  Entry<extrinsic_t>(),   Entry<status_t>(),
-      Entry<ground_truth_t>()};
+      Entry<image_t>(),      Entry<point_cloud_t>(), Entry<camera_info_t>(), Entry<station_t>(),     Entry<motion_t>(),
+      Entry<motion_set_t>(), Entry<extrinsic_t>(),   Entry<status_t>(),      Entry<ground_truth_t>()};
   return registry;
 }
 

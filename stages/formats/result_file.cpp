@@ -35,10 +35,11 @@ void EmitObservedPart(YAML::Emitter& out, const CalibrationResult& r) {
   out << YAML::Key << "rotation_max_deg" << YAML::Value << observed.max_rotation_std_deg;
   out << YAML::Key << "translation_max_m" << YAML::Value << observed.max_translation_std_m;
   out << YAML::Key << "projected_out" << YAML::Value
-      << (observed.rotation_projected && observed.translation_projected ? "rotation about and translation along unobservable_direction"
-          : observed.rotation_projected                                 ? "rotation about unobservable_direction"
-          : observed.translation_projected                              ? "translation along unobservable_direction"
-                                                                        : "nothing (no variance marks it unobserved)");
+      << (observed.rotation_projected && observed.translation_projected
+              ? "rotation about and translation along unobservable_direction"
+          : observed.rotation_projected    ? "rotation about unobservable_direction"
+          : observed.translation_projected ? "translation along unobservable_direction"
+                                           : "nothing (no variance marks it unobserved)");
   out << YAML::EndMap;
 }
 
@@ -114,9 +115,7 @@ Eigen::Vector3d RotationStdDevDeg(const Matrix6& c) {
   return c.diagonal().head<3>().cwiseMax(0.0).cwiseSqrt() * 180.0 / M_PI;
 }
 
-Eigen::Vector3d TranslationStdDevM(const Matrix6& c) {
-  return c.diagonal().tail<3>().cwiseMax(0.0).cwiseSqrt();
-}
+Eigen::Vector3d TranslationStdDevM(const Matrix6& c) { return c.diagonal().tail<3>().cwiseMax(0.0).cwiseSqrt(); }
 
 std::string ResultToYaml(const CalibrationResult& result, const CalibrationResult* initial) {
   YAML::Emitter out;
@@ -132,8 +131,7 @@ std::string ResultToYaml(const CalibrationResult& result, const CalibrationResul
   return std::string(out.c_str()) + "\n";
 }
 
-void WriteResultFile(const std::string& path, const CalibrationResult& result,
-                     const CalibrationResult* initial) {
+void WriteResultFile(const std::string& path, const CalibrationResult& result, const CalibrationResult* initial) {
   WriteFileChecked(path, ResultToYaml(result, initial));
 }
 
@@ -158,8 +156,9 @@ CalibrationResult ReadResultFile(const std::string& path) {
   Isometry3 raw;
   raw.matrix() = M;
   if (!IsValidTransform(raw, 1e-4) || std::abs(M(3, 3) - 1) > 1e-9 || M.row(3).head<3>().norm() > 1e-9)
-    throw std::runtime_error(path + ": 'T_camera_lidar' is not a rigid transform (rotation not "
-                                    "orthonormal, non-finite, or last row not 0 0 0 1)");
+    throw std::runtime_error(path +
+                             ": 'T_camera_lidar' is not a rigid transform (rotation not "
+                             "orthonormal, non-finite, or last row not 0 0 0 1)");
   CalibrationResult result;
   result.T_camera_lidar = FromRowMajor(m);
   auto read_string = [&](const char* key, std::string* out) {
@@ -167,7 +166,8 @@ CalibrationResult ReadResultFile(const std::string& path) {
   };
   read_string("status", &result.status);
   read_string("observability", &result.observability);
-  if (root["residual_rms"] && root["residual_rms"].IsScalar()) result.residual_rms = root["residual_rms"].as<double>(0.0);
+  if (root["residual_rms"] && root["residual_rms"].IsScalar())
+    result.residual_rms = root["residual_rms"].as<double>(0.0);
   const YAML::Node direction = root["unobservable_direction"];
   if (direction && direction.IsSequence() && direction.size() == 3) {
     const Eigen::Vector3d d(direction[0].as<double>(0.0), direction[1].as<double>(0.0), direction[2].as<double>(0.0));

@@ -51,7 +51,7 @@ struct CalibrationResult {
   double residual_rms = 0.0;
   // Camera frame, unit: the direction the motions leave unobserved (see observability), when there is one.
   std::optional<Eigen::Vector3d> unobservable_direction;
-  std::map<std::string, std::string> extra;   // further scalar facts (iterations, source, ...)
+  std::map<std::string, std::string> extra;                   // further scalar facts (iterations, source, ...)
   std::optional<std::vector<ExtrinsicChangeRecord>> changes;  // set: written as `changes`, even when empty
 };
 

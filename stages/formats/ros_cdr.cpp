@@ -15,9 +15,8 @@ constexpr size_t kEncapsulationSize = 4;
 // Representation identifiers as DDSI-RTPS 2.5 numbers them (and Cyclone DDS and Fast DDS write them),
 // for the message that refuses one.
 std::string EncapsulationName(unsigned id) {
-  static const char* const kNames[] = {"CDR_BE",   "CDR_LE",   "PL_CDR_BE",  "PL_CDR_LE",  "XML",   "",
-                                       "CDR2_BE",  "CDR2_LE",  "D_CDR2_BE",  "D_CDR2_LE",  "PL_CDR2_BE",
-                                       "PL_CDR2_LE"};
+  static const char* const kNames[] = {"CDR_BE",  "CDR_LE",  "PL_CDR_BE", "PL_CDR_LE", "XML",        "",
+                                       "CDR2_BE", "CDR2_LE", "D_CDR2_BE", "D_CDR2_LE", "PL_CDR2_BE", "PL_CDR2_LE"};
   char hex[8];
   std::snprintf(hex, sizeof(hex), "0x%04x", id);
   const bool named = id < sizeof(kNames) / sizeof(kNames[0]) && kNames[id][0] != '\0';
@@ -141,8 +140,7 @@ RosPointCloud2 DecodeCdrPointCloud2(const uint8_t* data, size_t size) {
   msg.height = in.U32("height");
   msg.width = in.U32("width");
   const uint32_t fields = in.Count("fields", kMinPointFieldSize);
-  for (uint32_t i = 0; i < fields; ++i)
-    msg.fields.push_back(ReadPointField(in, "fields[" + std::to_string(i) + "]"));
+  for (uint32_t i = 0; i < fields; ++i) msg.fields.push_back(ReadPointField(in, "fields[" + std::to_string(i) + "]"));
   msg.is_bigendian = in.Bool("is_bigendian");
   msg.point_step = in.U32("point_step");
   msg.row_step = in.U32("row_step");

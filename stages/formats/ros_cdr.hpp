@@ -16,9 +16,9 @@
 
 namespace fusecal {
 
-RosPointCloud2 DecodeCdrPointCloud2(const uint8_t* data, size_t size);  // sensor_msgs/msg/PointCloud2
-RosImage DecodeCdrImage(const uint8_t* data, size_t size);              // sensor_msgs/msg/Image
+RosPointCloud2 DecodeCdrPointCloud2(const uint8_t* data, size_t size);          // sensor_msgs/msg/PointCloud2
+RosImage DecodeCdrImage(const uint8_t* data, size_t size);                      // sensor_msgs/msg/Image
 RosCompressedImage DecodeCdrCompressedImage(const uint8_t* data, size_t size);  // .../CompressedImage
-RosCameraInfo DecodeCdrCameraInfo(const uint8_t* data, size_t size);    // sensor_msgs/msg/CameraInfo
+RosCameraInfo DecodeCdrCameraInfo(const uint8_t* data, size_t size);            // sensor_msgs/msg/CameraInfo
 
 }  // namespace fusecal

@@ -13,20 +13,24 @@ namespace fusecal {
 namespace {
 
 struct EncodingLayout {
-  int cv_type;      // of the message's pixels
-  int conversion;   // cv::cvtColor code to BGR / grey, or -1 for none
+  int cv_type;     // of the message's pixels
+  int conversion;  // cv::cvtColor code to BGR / grey, or -1 for none
   bool sixteen_bit;
 };
 
 bool LookUpEncoding(const std::string& encoding, EncodingLayout* layout) {
   static const std::vector<std::pair<std::string, EncodingLayout>> kLayouts = {
-      {"mono8", {CV_8UC1, -1, false}},   {"8UC1", {CV_8UC1, -1, false}},
-      {"bgr8", {CV_8UC3, -1, false}},    {"8UC3", {CV_8UC3, -1, false}},
+      {"mono8", {CV_8UC1, -1, false}},
+      {"8UC1", {CV_8UC1, -1, false}},
+      {"bgr8", {CV_8UC3, -1, false}},
+      {"8UC3", {CV_8UC3, -1, false}},
       {"rgb8", {CV_8UC3, cv::COLOR_RGB2BGR, false}},
       {"bgra8", {CV_8UC4, cv::COLOR_BGRA2BGR, false}},
       {"rgba8", {CV_8UC4, cv::COLOR_RGBA2BGR, false}},
-      {"mono16", {CV_16UC1, -1, true}},  {"16UC1", {CV_16UC1, -1, true}},
-      {"bgr16", {CV_16UC3, -1, true}},   {"rgb16", {CV_16UC3, cv::COLOR_RGB2BGR, true}},
+      {"mono16", {CV_16UC1, -1, true}},
+      {"16UC1", {CV_16UC1, -1, true}},
+      {"bgr16", {CV_16UC3, -1, true}},
+      {"rgb16", {CV_16UC3, cv::COLOR_RGB2BGR, true}},
       // ROS names a Bayer pattern by its first row, OpenCV by its second: rggb is OpenCV's BG.
       {"bayer_rggb8", {CV_8UC1, cv::COLOR_BayerBG2BGR, false}},
       {"bayer_bggr8", {CV_8UC1, cv::COLOR_BayerRG2BGR, false}},
@@ -55,19 +59,44 @@ double ReadField(const uint8_t* p, uint8_t datatype, bool big_endian) {
   const int size = FieldSize(datatype);
   for (int i = 0; i < size; ++i) bytes[i] = big_endian ? p[size - 1 - i] : p[i];
   switch (datatype) {
-    case RosPointField::INT8: return static_cast<int8_t>(bytes[0]);
-    case RosPointField::UINT8: return bytes[0];
-    case RosPointField::INT16: { int16_t v; std::memcpy(&v, bytes, 2); return v; }
-    case RosPointField::UINT16: { uint16_t v; std::memcpy(&v, bytes, 2); return v; }
-    case RosPointField::INT32: { int32_t v; std::memcpy(&v, bytes, 4); return v; }
-    case RosPointField::UINT32: { uint32_t v; std::memcpy(&v, bytes, 4); return v; }
-    case RosPointField::FLOAT32: { float v; std::memcpy(&v, bytes, 4); return v; }
-    default: { double v; std::memcpy(&v, bytes, 8); return v; }
+    case RosPointField::INT8:
+      return static_cast<int8_t>(bytes[0]);
+    case RosPointField::UINT8:
+      return bytes[0];
+    case RosPointField::INT16: {
+      int16_t v;
+      std::memcpy(&v, bytes, 2);
+      return v;
+    }
+    case RosPointField::UINT16: {
+      uint16_t v;
+      std::memcpy(&v, bytes, 2);
+      return v;
+    }
+    case RosPointField::INT32: {
+      int32_t v;
+      std::memcpy(&v, bytes, 4);
+      return v;
+    }
+    case RosPointField::UINT32: {
+      uint32_t v;
+      std::memcpy(&v, bytes, 4);
+      return v;
+    }
+    case RosPointField::FLOAT32: {
+      float v;
+      std::memcpy(&v, bytes, 4);
+      return v;
+    }
+    default: {
+      double v;
+      std::memcpy(&v, bytes, 8);
+      return v;
+    }
   }
 }
 
-const RosPointField* FindField(const RosPointCloud2& msg,
-                                         std::initializer_list<const char*> names) {
+const RosPointField* FindField(const RosPointCloud2& msg, std::initializer_list<const char*> names) {
   for (const char* name : names)
     for (const auto& field : msg.fields)
       if (field.name == name) {
@@ -104,9 +133,7 @@ void CheckCloudSize(const RosPointCloud2& msg) {
 
 }  // namespace
 
-int64_t RosStampToUtime(const RosTime& stamp) {
-  return stamp.sec * 1000000 + static_cast<int64_t>(stamp.nsec) / 1000;
-}
+int64_t RosStampToUtime(const RosTime& stamp) { return stamp.sec * 1000000 + static_cast<int64_t>(stamp.nsec) / 1000; }
 
 cv::Mat SixteenBitScaler::ToEightBit(const cv::Mat& image16) {
   if (shift_ < 0) {
@@ -142,7 +169,8 @@ cv::Mat RosImageToMat(const RosImage& msg, SixteenBitScaler& scaler) {
   if (layout.sixteen_bit) {
     if (msg.is_bigendian) {
       uint16_t* p = image.ptr<uint16_t>();
-      for (size_t i = 0; i < image.total() * image.channels(); ++i) p[i] = static_cast<uint16_t>((p[i] >> 8) | (p[i] << 8));
+      for (size_t i = 0; i < image.total() * image.channels(); ++i)
+        p[i] = static_cast<uint16_t>((p[i] >> 8) | (p[i] << 8));
     }
     image = scaler.ToEightBit(image);
   }
@@ -190,8 +218,8 @@ PointCloud RosCloudToPointCloud(const RosPointCloud2& msg, int* dropped) {
   if (intensity) cloud.intensity.reserve(points);
   for (uint32_t row = 0; row < msg.height; ++row)
     for (uint32_t col = 0; col < msg.width; ++col) {
-      const uint8_t* point = msg.data.data() + static_cast<size_t>(row) * msg.row_step +
-                             static_cast<size_t>(col) * msg.point_step;
+      const uint8_t* point =
+          msg.data.data() + static_cast<size_t>(row) * msg.row_step + static_cast<size_t>(col) * msg.point_step;
       const Eigen::Vector3f p(static_cast<float>(ReadField(point + x->offset, x->datatype, msg.is_bigendian)),
                               static_cast<float>(ReadField(point + y->offset, y->datatype, msg.is_bigendian)),
                               static_cast<float>(ReadField(point + z->offset, z->datatype, msg.is_bigendian)));
@@ -214,7 +242,8 @@ CameraParams RosCameraInfoToParams(const RosCameraInfo& msg) {
   const std::string& model = msg.distortion_model;
   const auto& D = msg.D;
   if (model == "equidistant") {
-    if (D.size() != 4) throw std::runtime_error("CameraInfo equidistant needs 4 coefficients, has " + std::to_string(D.size()));
+    if (D.size() != 4)
+      throw std::runtime_error("CameraInfo equidistant needs 4 coefficients, has " + std::to_string(D.size()));
     p.model = "equidistant";
   } else if (model == "plumb_bob" || model == "rational_polynomial" || (model.empty() && D.empty())) {
     if (D.size() > 5 && (D.size() != 8 || D[5] != 0 || D[6] != 0 || D[7] != 0))

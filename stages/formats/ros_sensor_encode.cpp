@@ -51,8 +51,10 @@ RosPointCloud2 ToRosPointCloud2(const PointCloud& cloud, const RosHeader& header
   msg.header = header;
   msg.height = 1;
   msg.width = static_cast<uint32_t>(cloud.size());
-  msg.fields = {{"x", 0, RosPointField::FLOAT32, 1}, {"y", 4, RosPointField::FLOAT32, 1},
-                {"z", 8, RosPointField::FLOAT32, 1}, {"intensity", 12, RosPointField::FLOAT32, 1}};
+  msg.fields = {{"x", 0, RosPointField::FLOAT32, 1},
+                {"y", 4, RosPointField::FLOAT32, 1},
+                {"z", 8, RosPointField::FLOAT32, 1},
+                {"intensity", 12, RosPointField::FLOAT32, 1}};
   msg.point_step = 16;
   if (rings) {
     msg.fields.push_back({"ring", 16, RosPointField::UINT16, 1});

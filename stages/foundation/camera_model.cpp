@@ -27,9 +27,7 @@ std::string CameraParams::Validate() const {
 
 namespace {
 // Radial factor 1 + k1 r^2 + k2 r^4 + k3 r^6.
-double RadialFactor(const std::array<double, 5>& d, double r2) {
-  return 1.0 + r2 * (d[0] + r2 * (d[1] + r2 * d[4]));
-}
+double RadialFactor(const std::array<double, 5>& d, double r2) { return 1.0 + r2 * (d[0] + r2 * (d[1] + r2 * d[4])); }
 }  // namespace
 
 PinholeCamera::PinholeCamera(const CameraParams& params) : CameraModel(params) {
@@ -160,8 +158,7 @@ bool EquirectangularCamera::Project(const Eigen::Vector3d& p, Eigen::Vector2d* p
   if (!p.allFinite() || horizontal + std::abs(p.y()) < 1e-12) return false;
   const double lon = std::atan2(p.x(), p.z());
   const double lat = std::atan2(-p.y(), horizontal);
-  *pixel = Eigen::Vector2d((lon + M_PI) / (2.0 * M_PI) * width() - 0.5,
-                           (M_PI / 2.0 - lat) / M_PI * height() - 0.5);
+  *pixel = Eigen::Vector2d((lon + M_PI) / (2.0 * M_PI) * width() - 0.5, (M_PI / 2.0 - lat) / M_PI * height() - 0.5);
   return true;  // every direction is in the panorama
 }
 

@@ -22,7 +22,7 @@ struct CameraParams {
   std::string model = "pinhole";  // "pinhole", "equidistant" (fisheye) or "equirectangular"
   int width = 0;
   int height = 0;
-  double fx = 0, fy = 0, cx = 0, cy = 0;       // pinhole and equidistant
+  double fx = 0, fy = 0, cx = 0, cy = 0;      // pinhole and equidistant
   std::array<double, 5> dist{0, 0, 0, 0, 0};  // pinhole: k1 k2 p1 p2 k3 (OpenCV); equidistant: k1 k2 k3 k4 0
 
   bool HasIntrinsics() const { return model == "pinhole" || model == "equidistant"; }
@@ -47,8 +47,7 @@ class CameraModel {
   virtual bool WrapsHorizontally() const { return false; }
 
   bool InImage(const Eigen::Vector2d& pixel) const {
-    return pixel.x() >= -0.5 && pixel.y() >= -0.5 && pixel.x() <= width() - 0.5 &&
-           pixel.y() <= height() - 0.5;
+    return pixel.x() >= -0.5 && pixel.y() >= -0.5 && pixel.x() <= width() - 0.5 && pixel.y() <= height() - 0.5;
   }
   int width() const { return params_.width; }
   int height() const { return params_.height; }

@@ -40,8 +40,8 @@ inline ObservableError CompareObservablePart(const Isometry3& estimate, const Is
   const Eigen::Vector3d from_estimate = estimate.linear().transpose() * d;
   const Eigen::Vector3d from_reference = reference.linear().transpose() * d;
   ObservableError e;
-  e.direction_deg = std::atan2(from_estimate.cross(from_reference).norm(), from_estimate.dot(from_reference)) *
-                    180.0 / M_PI;
+  e.direction_deg =
+      std::atan2(from_estimate.cross(from_reference).norm(), from_estimate.dot(from_reference)) * 180.0 / M_PI;
   const Eigen::Vector3d dt = estimate.translation() - reference.translation();
   e.translation_perpendicular_m = dt - d * d.dot(dt);
   return e;

@@ -25,7 +25,8 @@ double LargestStd(const Eigen::Matrix3d& block) {
 
 }  // namespace
 
-ObservedUncertainty ObservedPart(const Matrix6& covariance, const Eigen::Matrix3d& R, const Eigen::Vector3d& direction) {
+ObservedUncertainty ObservedPart(const Matrix6& covariance, const Eigen::Matrix3d& R,
+                                 const Eigen::Vector3d& direction) {
   ObservedUncertainty out;
   out.covariance = 0.5 * (covariance + covariance.transpose());
   const double n = direction.norm();

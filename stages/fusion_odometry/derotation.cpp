@@ -20,7 +20,9 @@ T WrapColumn(T u, int width) {
 }  // namespace
 
 DerotationMap::DerotationMap(const CameraModel& camera, const Eigen::Matrix3d& R_ci_cj, int grid_step)
-    : width_(camera.width()), height_(camera.height()), step_(std::max(1, grid_step)),
+    : width_(camera.width()),
+      height_(camera.height()),
+      step_(std::max(1, grid_step)),
       wrap_(camera.WrapsHorizontally()) {
   grid_w_ = (width_ - 1 + step_ - 1) / step_ + 1;
   grid_h_ = (height_ - 1 + step_ - 1) / step_ + 1;
@@ -87,8 +89,7 @@ cv::Mat DerotationMap::Resample(const cv::Mat& grey_j) const {
   return derotated;
 }
 
-cv::Mat DerotateImage(const cv::Mat& grey_j, const CameraModel& camera, const Eigen::Matrix3d& R_ci_cj,
-                      int grid_step) {
+cv::Mat DerotateImage(const cv::Mat& grey_j, const CameraModel& camera, const Eigen::Matrix3d& R_ci_cj, int grid_step) {
   return DerotationMap(camera, R_ci_cj, grid_step).Resample(grey_j);
 }
 

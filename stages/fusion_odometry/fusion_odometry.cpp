@@ -3,8 +3,8 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
-#include <optional>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "fusion_odometry/derotation.hpp"
 #include "fusion_odometry/klt_tracking.hpp"
@@ -20,9 +20,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using Code = FusionOdometryFailure;
 
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // Empty when the image is usable (8-bit, 1, 3 or 4 channels, the camera's size), else why not.
 std::string CheckImage(const cv::Mat& image, const CameraModel& camera, const char* name) {
@@ -81,9 +79,9 @@ Correspondences TrackPass(const std::vector<ScanPoint>& selected, const Isometry
     // from inside image j (not its replicated border).
     c.pixel_j = tracked_image.derotated() ? tracked_image.map->SourcePixel(tracked[n].x, tracked[n].y)
                                           : Eigen::Vector2d(tracked[n].x, tracked[n].y);
-    if (check_border && (c.pixel_j.x() < border_px || c.pixel_j.y() < border_px ||
-                         c.pixel_j.x() > camera.width() - 1 - border_px ||
-                         c.pixel_j.y() > camera.height() - 1 - border_px))
+    if (check_border &&
+        (c.pixel_j.x() < border_px || c.pixel_j.y() < border_px || c.pixel_j.x() > camera.width() - 1 - border_px ||
+         c.pixel_j.y() > camera.height() - 1 - border_px))
       continue;
     c.bearing_j = camera.Unproject(c.pixel_j);
     out.push_back(c);
@@ -171,8 +169,7 @@ StartPose ChooseStart(const Correspondences& tracks, const MotionGuess& guess, d
   start.inliers = PoseInliers(tracks, guess.T_ci_cj, ransac_threshold);
   result->guess_inliers = static_cast<int>(start.inliers.size());
   start.T_ci_cj = guess.T_ci_cj;
-  const bool guess_trusted =
-      guess.reliable && start.inliers.size() >= settings.min_guess_inlier_ratio * tracks.size();
+  const bool guess_trusted = guess.reliable && start.inliers.size() >= settings.min_guess_inlier_ratio * tracks.size();
   result->used_ransac = settings.ransac_mode == "always" || (settings.ransac_mode == "auto" && !guess_trusted);
   if (result->used_ransac) {
     const P3pResult p3p = P3pRansac(tracks, ransac_threshold, settings.ransac);
@@ -191,8 +188,8 @@ StartPose ChooseStart(const Correspondences& tracks, const MotionGuess& guess, d
 // pass replaces *refined and *tracks when it keeps at least as many inliers.
 void RetrackAndRefine(const std::vector<ScanPoint>& selected, const CameraModel& camera, const KltTracker& tracker,
                       const TrackedImage& tracked_image, int border_px, double ransac_threshold, double pixel_angle,
-                      const FusionOdometrySettings& settings, FusionOdometryResult* result,
-                      RefinementResult* refined, Correspondences* tracks) {
+                      const FusionOdometrySettings& settings, FusionOdometryResult* result, RefinementResult* refined,
+                      Correspondences* tracks) {
   auto t0 = Clock::now();
   Correspondences tracks2 = TrackPass(selected, refined->T_ci_cj, camera, tracker, tracked_image, border_px);
   result->seconds_tracking += SecondsSince(t0);
@@ -254,8 +251,7 @@ void Run(const PointCloud& scan_i, const cv::Mat& image_i, const cv::Mat& image_
   auto t0 = Clock::now();
   const cv::Mat grey_i = Grey(image_i), grey_j = Grey(image_j);
   std::vector<ScanPoint> selected;
-  if (!SelectPoints(scan_i, grey_i, camera, T_camera_lidar, settings, wrap, border_px, t0, result, &selected))
-    return;
+  if (!SelectPoints(scan_i, grey_i, camera, T_camera_lidar, settings, wrap, border_px, t0, result, &selected)) return;
 
   // --- step 3: KLT into image j, predicted by the guess ---
   t0 = Clock::now();
@@ -297,10 +293,9 @@ void Run(const PointCloud& scan_i, const cv::Mat& image_i, const cv::Mat& image_
 
 }  // namespace
 
-FusionOdometryResult EstimateScaledMotion(const PointCloud& scan_i, const cv::Mat& image_i,
-                                          const cv::Mat& image_j, const CameraModel& camera,
-                                          const Isometry3& T_camera_lidar, const MotionGuess& guess,
-                                          const FusionOdometrySettings& settings) {
+FusionOdometryResult EstimateScaledMotion(const PointCloud& scan_i, const cv::Mat& image_i, const cv::Mat& image_j,
+                                          const CameraModel& camera, const Isometry3& T_camera_lidar,
+                                          const MotionGuess& guess, const FusionOdometrySettings& settings) {
   const auto start = Clock::now();
   FusionOdometryResult result;
   try {

@@ -33,9 +33,9 @@ namespace fusecal::fusion_odometry {
 
 // Values of FusionOdometryResult::status.
 namespace status {
-inline constexpr const char* kConverged = "converged";          // the motion is usable
+inline constexpr const char* kConverged = "converged";         // the motion is usable
 inline constexpr const char* kNotConverged = "not_converged";  // an estimate, but too few inliers (see reason)
-inline constexpr const char* kFailed = "failed";                // no estimate (bad input, no tracks, ...)
+inline constexpr const char* kFailed = "failed";               // no estimate (bad input, no tracks, ...)
 }  // namespace status
 
 // The motion the tracking starts from. reliable = false (e.g. the first iteration, or X B X^-1 with a rough
@@ -87,9 +87,9 @@ struct FusionOdometryResult {
   int guess_inliers = 0;  // tracks consistent with the guess (first pass)
   int passes = 0;         // tracking passes (2 when re-tracked with the estimate)
   int refinement_iterations = 0;
-  double rms_residual_px = 0.0;     // over the inliers, in pixels at the image centre
+  double rms_residual_px = 0.0;  // over the inliers, in pixels at the image centre
   double median_residual_px = 0.0;
-  double seconds_selection = 0.0;   // projection, visibility and selection
+  double seconds_selection = 0.0;  // projection, visibility and selection
   double seconds_tracking = 0.0;
   double seconds_ransac = 0.0;
   double seconds_refinement = 0.0;
@@ -99,10 +99,9 @@ struct FusionOdometryResult {
 
 // The metric camera motion A = T_ci_cj. scan_i: station i in the LiDAR frame; images 8-bit grey, BGR or
 // BGRA of the camera's size. Never throws.
-FusionOdometryResult EstimateScaledMotion(const PointCloud& scan_i, const cv::Mat& image_i,
-                                          const cv::Mat& image_j, const CameraModel& camera,
-                                          const Isometry3& T_camera_lidar, const MotionGuess& guess = {},
-                                          const FusionOdometrySettings& settings = {});
+FusionOdometryResult EstimateScaledMotion(const PointCloud& scan_i, const cv::Mat& image_i, const cv::Mat& image_j,
+                                          const CameraModel& camera, const Isometry3& T_camera_lidar,
+                                          const MotionGuess& guess = {}, const FusionOdometrySettings& settings = {});
 
 // A = X B X^-1: the camera motion that a LiDAR motion B = T_li_lj implies under X = T_camera_lidar.
 Isometry3 CameraMotionFromLidar(const Isometry3& T_camera_lidar, const Isometry3& T_li_lj);

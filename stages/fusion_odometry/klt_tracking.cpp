@@ -45,15 +45,13 @@ void KltTracker::Track(const std::vector<cv::Point2f>& pixels_i, const std::vect
                                   settings_.epsilon_px);
   std::vector<unsigned char> status_forward, status_backward;
   std::vector<float> error;
-  cv::calcOpticalFlowPyrLK(pyramid_i_, pyramid_j_, from, to, status_forward, error, window,
-                           settings_.pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW,
-                           settings_.min_eigen_threshold);
+  cv::calcOpticalFlowPyrLK(pyramid_i_, pyramid_j_, from, to, status_forward, error, window, settings_.pyramid_levels,
+                           criteria, cv::OPTFLOW_USE_INITIAL_FLOW, settings_.min_eigen_threshold);
   RefineAtFullResolution(from, &to);
   // Forward-backward check: track j back into i, starting at the original pixel.
   back = from;
-  cv::calcOpticalFlowPyrLK(pyramid_j_, pyramid_i_, to, back, status_backward, error, window,
-                           settings_.pyramid_levels, criteria, cv::OPTFLOW_USE_INITIAL_FLOW,
-                           settings_.min_eigen_threshold);
+  cv::calcOpticalFlowPyrLK(pyramid_j_, pyramid_i_, to, back, status_backward, error, window, settings_.pyramid_levels,
+                           criteria, cv::OPTFLOW_USE_INITIAL_FLOW, settings_.min_eigen_threshold);
 
   const double max_fb2 = settings_.max_forward_backward_px * settings_.max_forward_backward_px;
   const float x_lo = wrap_ ? -1e9f : static_cast<float>(border_px_);

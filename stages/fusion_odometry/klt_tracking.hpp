@@ -20,8 +20,8 @@ class KltTracker {
   // grey_i, grey_j: 8-bit grey of the same size. wrap: columns wrap around (equirectangular).
   // border_px: tracks ending closer than this to the image border are lost (rows only when wrapping).
   // refine_window_px: the window of the full-resolution refinement (RefineWindowPx; 0: none).
-  KltTracker(const cv::Mat& grey_i, const cv::Mat& grey_j, bool wrap, int border_px,
-             const TrackingSettings& settings, int refine_window_px = 0);
+  KltTracker(const cv::Mat& grey_i, const cv::Mat& grey_j, bool wrap, int border_px, const TrackingSettings& settings,
+             int refine_window_px = 0);
 
   // Tracks pixels_i into image j, starting from predicted_j. pixels_j receives the tracked pixels (columns
   // in [-0.5, width - 0.5) when wrapping); ok[k] is false for a lost or inconsistent track.

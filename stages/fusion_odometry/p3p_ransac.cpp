@@ -37,8 +37,7 @@ P3pResult P3pRansac(const Correspondences& correspondences, double threshold_rad
   return out;
 }
 
-std::vector<int> PoseInliers(const Correspondences& correspondences, const Isometry3& T_ci_cj,
-                             double threshold_rad) {
+std::vector<int> PoseInliers(const Correspondences& correspondences, const Isometry3& T_ci_cj, double threshold_rad) {
   const Isometry3 T_cj_ci = T_ci_cj.inverse();
   const double cos_threshold = std::cos(threshold_rad);
   std::vector<int> inliers;

@@ -28,7 +28,6 @@ struct P3pResult {
 P3pResult P3pRansac(const Correspondences& correspondences, double threshold_rad, const RansacSettings& settings);
 
 // Correspondences whose angle between v'_j and A^-1 p_ci is within threshold_rad (in front of camera j).
-std::vector<int> PoseInliers(const Correspondences& correspondences, const Isometry3& T_ci_cj,
-                             double threshold_rad);
+std::vector<int> PoseInliers(const Correspondences& correspondences, const Isometry3& T_ci_cj, double threshold_rad);
 
 }  // namespace fusecal::fusion_odometry

@@ -110,8 +110,8 @@ bool Solve(const Correspondences& correspondences, const std::vector<int>& use, 
 
 }  // namespace
 
-bool PoseCovariance(const Correspondences& correspondences, const std::vector<int>& inliers,
-                    const Isometry3& T_ci_cj, Matrix6* covariance) {
+bool PoseCovariance(const Correspondences& correspondences, const std::vector<int>& inliers, const Isometry3& T_ci_cj,
+                    Matrix6* covariance) {
   const int n = static_cast<int>(inliers.size());
   if (n < 4) return false;
   Matrix6 H = Matrix6::Zero();
@@ -120,7 +120,8 @@ bool PoseCovariance(const Correspondences& correspondences, const std::vector<in
   const double* parameters[1] = {zero};
   for (int k : inliers) {
     const Correspondence& c = correspondences[k];
-    ceres::AutoDiffCostFunction<PerturbedBearingError, 3, 6> cost(new PerturbedBearingError(T_ci_cj, c.p_ci, c.bearing_j));
+    ceres::AutoDiffCostFunction<PerturbedBearingError, 3, 6> cost(
+        new PerturbedBearingError(T_ci_cj, c.p_ci, c.bearing_j));
     Eigen::Vector3d r;
     Eigen::Matrix<double, 3, 6, Eigen::RowMajor> J;
     double* jacobians[1] = {J.data()};

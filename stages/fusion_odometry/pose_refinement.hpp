@@ -39,7 +39,7 @@ RefinementResult RefinePose(const Correspondences& correspondences, const Isomet
 
 // Covariance of A over [d_rot; d_t] (model above) from the residuals of the given correspondences:
 // sigma^2 (J^T J)^-1, sigma^2 = sum |r|^2 / (2 n - 6). False when J^T J is singular or n < 4.
-bool PoseCovariance(const Correspondences& correspondences, const std::vector<int>& inliers,
-                    const Isometry3& T_ci_cj, Matrix6* covariance);
+bool PoseCovariance(const Correspondences& correspondences, const std::vector<int>& inliers, const Isometry3& T_ci_cj,
+                    Matrix6* covariance);
 
 }  // namespace fusecal::fusion_odometry

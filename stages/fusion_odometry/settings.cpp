@@ -14,8 +14,7 @@ std::string VisibilitySettings::Validate() const {
   if (!NonNegative(min_range_m)) return "min_range_m: must not be negative";
   if (!(Positive(max_range_m) && max_range_m > min_range_m)) return "max_range_m: must exceed min_range_m";
   if (cell_px < 1 || cell_px > 64) return "cell_px: must be in [1, 64]";
-  if (!NonNegative(occlusion_radius_px) || occlusion_radius_px > 256)
-    return "occlusion_radius_px: must be in [0, 256]";
+  if (!NonNegative(occlusion_radius_px) || occlusion_radius_px > 256) return "occlusion_radius_px: must be in [0, 256]";
   if (!InOpenUnit(occlusion_tolerance)) return "occlusion_tolerance: must be in (0, 1)";
   return {};
 }

@@ -71,8 +71,8 @@ class SpacingGrid {
 
 }  // namespace
 
-std::vector<ScanPoint> SelectTrackable(const VisibleScan& visible, const cv::Mat& response,
-                                       const CameraModel& camera, int border_px, const SelectionSettings& settings) {
+std::vector<ScanPoint> SelectTrackable(const VisibleScan& visible, const cv::Mat& response, const CameraModel& camera,
+                                       int border_px, const SelectionSettings& settings) {
   const bool wrap = camera.WrapsHorizontally();
   const int w = camera.width(), h = camera.height();
   const double max_abs_lat = settings.max_abs_latitude_deg * M_PI / 180.0;
@@ -100,13 +100,11 @@ std::vector<ScanPoint> SelectTrackable(const VisibleScan& visible, const cv::Mat
     candidates.push_back(static_cast<int>(k));
   }
   const float threshold = static_cast<float>(settings.min_corner_quality) * strongest;
-  candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
-                                  [&](int k) { return !(score[k] > threshold); }),
+  candidates.erase(std::remove_if(candidates.begin(), candidates.end(), [&](int k) { return !(score[k] > threshold); }),
                    candidates.end());
   // Strongest first; ties by scan index so the result does not depend on the sort implementation.
-  std::sort(candidates.begin(), candidates.end(), [&](int a, int b) {
-    return score[a] != score[b] ? score[a] > score[b] : a < b;
-  });
+  std::sort(candidates.begin(), candidates.end(),
+            [&](int a, int b) { return score[a] != score[b] ? score[a] > score[b] : a < b; });
 
   std::vector<ScanPoint> selected;
   SpacingGrid spacing(w, h, settings.min_distance_px, wrap);

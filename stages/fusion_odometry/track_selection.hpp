@@ -20,7 +20,7 @@ cv::Mat CornerResponse(const cv::Mat& grey, int block_size, bool wrap);
 
 // Selects from visible.points. border_px: no point closer than this to the image border (columns of a
 // panorama wrap and have no border).
-std::vector<ScanPoint> SelectTrackable(const VisibleScan& visible, const cv::Mat& response,
-                                       const CameraModel& camera, int border_px, const SelectionSettings& settings);
+std::vector<ScanPoint> SelectTrackable(const VisibleScan& visible, const cv::Mat& response, const CameraModel& camera,
+                                       int border_px, const SelectionSettings& settings);
 
 }  // namespace fusecal::fusion_odometry

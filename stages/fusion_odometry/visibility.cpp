@@ -64,8 +64,7 @@ const DepthGrid::PairExtremes& DepthGrid::CellPairs(int r0, int c0, int k) const
   return e;
 }
 
-DepthGrid::Contrast DepthGrid::SecondDifference(const Eigen::Vector2d& pixel, double range,
-                                                double radius_px) const {
+DepthGrid::Contrast DepthGrid::SecondDifference(const Eigen::Vector2d& pixel, double range, double radius_px) const {
   Contrast out;
   if (cols_ == 0 || rows_ == 0) return out;
   const int r0 = Row(pixel.y()), c0 = Col(pixel.x());  // clamped into the grid

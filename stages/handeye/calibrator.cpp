@@ -29,12 +29,18 @@ StationPair KeyOf(const SensorMotion& m) { return {m.station_i, m.station_j}; }
 
 const char* Name(VersionStatus status) {
   switch (status) {
-    case VersionStatus::kInitial: return "initial";
-    case VersionStatus::kRefining: return "refining";
-    case VersionStatus::kConverged: return "converged";
-    case VersionStatus::kNotConverged: return "not_converged";
-    case VersionStatus::kDegenerate: return "degenerate";
-    case VersionStatus::kFailed: return "failed";
+    case VersionStatus::kInitial:
+      return "initial";
+    case VersionStatus::kRefining:
+      return "refining";
+    case VersionStatus::kConverged:
+      return "converged";
+    case VersionStatus::kNotConverged:
+      return "not_converged";
+    case VersionStatus::kDegenerate:
+      return "degenerate";
+    case VersionStatus::kFailed:
+      return "failed";
   }
   return "unknown";
 }
@@ -43,7 +49,8 @@ std::string CalibratorSettings::Validate() const {
   if (!Positive(tolerance_rotation_deg)) return "tolerance_rotation_deg: must be positive";
   if (!Positive(tolerance_translation_m)) return "tolerance_translation_m: must be positive";
   if (max_iterations < 1 || max_iterations > 1000) return "max_iterations: must be in [1, 1000]";
-  if (!NonNegative(tolerance_std_fraction) || tolerance_std_fraction > 1) return "tolerance_std_fraction: must be in [0, 1]";
+  if (!NonNegative(tolerance_std_fraction) || tolerance_std_fraction > 1)
+    return "tolerance_std_fraction: must be in [0, 1]";
   if (!NonNegative(retry_s)) return "retry_s: must not be negative";
   if (max_motions < std::max(2, solver.min_pairs) || max_motions > 100000)
     return "max_motions: must be in [min_pairs, 100000] (min_pairs is " + std::to_string(solver.min_pairs) + ")";
@@ -71,7 +78,8 @@ std::vector<CalibrationVersion> Calibrator::OnMotion(const SensorMotion& motion,
   if (other == others.end() || !other->second.valid) return {};
   LimitPairs();
   // The new pair's rotation is tested as it comes (also when the solve will reject it as an outlier).
-  if (const auto change = DetectChange(ScalelessPairs())) return StartAfterChange(change->first, change->second, now_utime);
+  if (const auto change = DetectChange(ScalelessPairs()))
+    return StartAfterChange(change->first, change->second, now_utime);
   return StartRound(now_utime);
 }
 
@@ -173,8 +181,7 @@ std::vector<CalibrationVersion> Calibrator::StartRound(int64_t now_utime) {
     converged_ = Observable(*initial_) && initial_->converged;
     state_ = converged_ ? "converged (scaleless)"
                         : std::string("waiting for motions (") + Name(initial_->observability) + ")";
-    return {MakeVersion(*initial_, converged_ ? VersionStatus::kConverged : VersionStatus::kDegenerate, {},
-                        now_utime)};
+    return {MakeVersion(*initial_, converged_ ? VersionStatus::kConverged : VersionStatus::kDegenerate, {}, now_utime)};
   }
   state_ = "refining";
   if (current_ && current_->scaled) {
@@ -222,8 +229,9 @@ std::vector<CalibrationVersion> Calibrator::OnFusedMotions(int version, const st
   const ObservedUncertainty observed =
       ObservedPart(result.covariance, result.T_camera_lidar.linear(), result.unobservable_direction);
   const double f = settings_.tolerance_std_fraction;
-  const bool small = change_rot_deg < std::max(settings_.tolerance_rotation_deg, f * observed.max_rotation_std_deg) &&
-                     change.translation_m < std::max(settings_.tolerance_translation_m, f * observed.max_translation_std_m);
+  const bool small =
+      change_rot_deg < std::max(settings_.tolerance_rotation_deg, f * observed.max_rotation_std_deg) &&
+      change.translation_m < std::max(settings_.tolerance_translation_m, f * observed.max_translation_std_m);
   const bool done = small || iteration_ >= settings_.max_iterations;
   VersionStatus status = VersionStatus::kRefining;
   if (done)

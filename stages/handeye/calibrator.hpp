@@ -73,18 +73,17 @@ const char* Name(VersionStatus status);
 
 using StationPair = std::pair<int, int>;  // (station_i, station_j) of a motion
 
-
 // One version of the extrinsic.
 struct CalibrationVersion {
   int version = 0;  // 1, 2, ... in the order produced; a repeated request keeps its version
   int64_t utime = 0;
   VersionStatus status = VersionStatus::kFailed;
   HandEyeResult result;
-  int iteration = 0;                // scaled iterations of this round so far
-  double change_rotation_rad = 0;   // between this estimate and the previous one of the round
+  int iteration = 0;               // scaled iterations of this round so far
+  double change_rotation_rad = 0;  // between this estimate and the previous one of the round
   double change_translation_m = 0;
-  std::vector<StationPair> used;      // used by the solve; for a request, the pairs asked for
-  std::vector<StationPair> not_used;  // every other held pair, and those dropped since the last version
+  std::vector<StationPair> used;         // used by the solve; for a request, the pairs asked for
+  std::vector<StationPair> not_used;     // every other held pair, and those dropped since the last version
   std::vector<ExtrinsicChange> changes;  // every change detected in the session so far, oldest first
   bool asks() const { return status == VersionStatus::kRefining; }
   bool converged() const { return status == VersionStatus::kConverged; }
@@ -128,8 +127,7 @@ class Calibrator {
     double translation_m = 0;
   };
   std::vector<CalibrationVersion> StartRound(int64_t now_utime);
-  CalibrationVersion MakeVersion(const HandEyeResult& result, VersionStatus status, Change change,
-                                 int64_t now_utime);
+  CalibrationVersion MakeVersion(const HandEyeResult& result, VersionStatus status, Change change, int64_t now_utime);
   std::vector<MotionPair> ScalelessPairs() const;
   // The pair of a camera motion with the LiDAR motion of the same stations; false when either is bad.
   bool PairWithLidar(const SensorMotion& camera, MotionPair* pair) const;
@@ -146,7 +144,7 @@ class Calibrator {
 
   CalibratorSettings settings_;
   std::map<StationPair, SensorMotion> camera_motions_, lidar_motions_;
-  std::set<StationPair> dropped_;                  // dropped by LimitPairs: their repeats are ignored
+  std::set<StationPair> dropped_;                   // dropped by LimitPairs: their repeats are ignored
   std::vector<StationPair> dropped_since_version_;  // listed once as not used, so that every pair is answered
   std::optional<HandEyeResult> initial_, current_;
   int version_ = 0;

@@ -43,7 +43,7 @@ namespace fusecal {
 
 struct ChangeDetectionSettings {
   bool enabled = true;
-  double off_probability = 5e-4;  // alpha: chance that one test of a pair of an unchanged rig is off
+  double off_probability = 5e-4;      // alpha: chance that one test of a pair of an unchanged rig is off
   double confirm_probability = 1e-3;  // beta: chance that pairs of an unchanged rig confirm an off pair
   int window = 3;                     // newest tested pairs the rule looks at
   // The pair's noise is the noise the estimate's residuals show, at least this fraction of the nominal.
@@ -55,8 +55,8 @@ struct ChangeDetectionSettings {
 
 // A change of the extrinsic that was detected.
 struct ExtrinsicChange {
-  int after_station = -1;        // the last station before the change
-  int decided_at_station = -1;   // station_j of the pair that decided it
+  int after_station = -1;                      // the last station before the change
+  int decided_at_station = -1;                 // station_j of the pair that decided it
   Isometry3 T_before = Isometry3::Identity();  // the estimate in force until then, and its covariance
   Matrix6 covariance_before = Matrix6::Zero();
 };

@@ -51,8 +51,8 @@ HandEyeResult SolveGlobalScale(const std::vector<MotionPair>& pairs, const HandE
   if (!fit.determined || !(fit.lambda > 0.0)) {
     std::ostringstream m;
     m << "the global camera scale is not determined by these motions"
-      << (fit.determined ? " (least squares gives " + std::to_string(fit.lambda) + ", not positive)" : "")
-      << "; " << scaleless.message;
+      << (fit.determined ? " (least squares gives " + std::to_string(fit.lambda) + ", not positive)" : "") << "; "
+      << scaleless.message;
     scaleless.message = m.str();
     scaleless.status = HandEyeStatus::kFailed;
     scaleless.converged = false;

@@ -117,14 +117,13 @@ double RotationCostSum(const std::vector<MotionPair>& pairs, const Eigen::Matrix
 // Starting rotation (paper: linear solution from the rotation axes). The initial guess replaces it when it
 // fits the rotations better. With (nearly) parallel axes the rotation about the axis is taken from the
 // initial guess, or, for scaled motions, from the translations when they determine it.
-Eigen::Matrix3d InitialRotation(const std::vector<MotionPair>& pairs, const HandEyeSettings& s,
-                                const NoiseModel& noise, const Isometry3* initial, bool scaled) {
+Eigen::Matrix3d InitialRotation(const std::vector<MotionPair>& pairs, const HandEyeSettings& s, const NoiseModel& noise,
+                                const Isometry3* initial, bool scaled) {
   const Eigen::Matrix3d R_axes = RotationFromAxes(pairs);
   Eigen::Vector3d k_b;
   const double weakest_deg = WeakestRotationFromAxes(pairs, R_axes, noise, &k_b) * kRadToDeg;
   if (!(weakest_deg > s.max_rotation_std_deg)) {
-    if (initial && RotationCostSum(pairs, initial->linear()) < RotationCostSum(pairs, R_axes))
-      return initial->linear();
+    if (initial && RotationCostSum(pairs, initial->linear()) < RotationCostSum(pairs, R_axes)) return initial->linear();
     return R_axes;
   }
   const Eigen::Vector3d k_a = (R_axes * k_b).normalized();
@@ -233,8 +232,8 @@ void Finish(const Working& w, const std::vector<MotionPair>& input, const HandEy
   r->converged = r->status == HandEyeStatus::kConverged;
   m << "used " << w.size() << " of " << input.size() << " pairs; observability " << Name(obs.verdict)
     << " (rotation std <= " << obs.rotation_std_deg << " deg, translation std <= " << obs.translation_std_m
-    << " m at the noise the residuals show, at least nominal); residual rms " << r->residual_rms_rot_deg << " deg, " << r->residual_rms_trans_m
-    << " m; solver: " << est.message;
+    << " m at the noise the residuals show, at least nominal); residual rms " << r->residual_rms_rot_deg << " deg, "
+    << r->residual_rms_trans_m << " m; solver: " << est.message;
   if (r->serial_correlation_inflation > 1.0)
     m << "; residuals correlated in sequence (overlapping pairs?): uncertainty x "
       << std::sqrt(r->serial_correlation_inflation) << ", as " << w.size() / r->serial_correlation_inflation

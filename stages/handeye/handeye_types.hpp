@@ -202,7 +202,7 @@ struct HandEyeResult {
   // applied to the verdict and the covariance (handeye/serial_correlation.hpp).
   double serial_correlation_inflation = 1.0;
 
-  int iterations = 0;  // nonlinear iterations, all solves together
+  int iterations = 0;   // nonlinear iterations, all solves together
   std::string message;  // what the solve found, or why it failed
   // kNone when usable; else the code, and the message as its text.
   Failure<HandEyeFailure> failure_reason{HandEyeFailure::kNotRun, {}};

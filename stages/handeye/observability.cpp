@@ -61,8 +61,8 @@ void Verdict(const BlockStd& rot, const BlockStd& trans, const Eigen::Matrix3d& 
   report->translation_std_m = trans.max_std * std::sqrt(std::max(variance_factor.translation, 1.0));
   // Motions that lack an axis leave one direction far weaker than the others; noise alone, all alike.
   const bool lacks_an_axis = !(rot.max_std <= settings.degenerate_rotation_anisotropy * rot.min_std);
-  if (lacks_an_axis &&
-      report->rotation_std_deg > Threshold(settings.max_rotation_std_deg, settings, {Observability::kRotationDegenerate})) {
+  if (lacks_an_axis && report->rotation_std_deg >
+                           Threshold(settings.max_rotation_std_deg, settings, {Observability::kRotationDegenerate})) {
     report->verdict = Observability::kRotationDegenerate;
     report->direction = (R * rot.direction).normalized();  // LiDAR-frame axis -> camera frame
   } else if (report->translation_std_m >
@@ -76,8 +76,8 @@ void Verdict(const BlockStd& rot, const BlockStd& trans, const Eigen::Matrix3d& 
 }  // namespace
 
 ObservabilityReport AnalyzeScaled(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
-                                  const Eigen::Vector3d& t, const NoiseModel& noise,
-                                  const HandEyeSettings& settings, const VarianceFactor& variance_factor) {
+                                  const Eigen::Vector3d& t, const NoiseModel& noise, const HandEyeSettings& settings,
+                                  const VarianceFactor& variance_factor) {
   Eigen::MatrixXd info = Eigen::MatrixXd::Zero(6, 6);
   for (const auto& p : pairs) {
     const Matrix6 J = JacobianWrtExtrinsic(p, R);
@@ -92,8 +92,8 @@ ObservabilityReport AnalyzeScaled(const std::vector<MotionPair>& pairs, const Ei
     rot_nulls.push_back(v.head<3>());
     trans_nulls.push_back(v.tail<3>());
   }
-  Verdict(AnalyzeBlock(C.topLeftCorner<3, 3>(), rot_nulls), AnalyzeBlock(C.bottomRightCorner<3, 3>(), trans_nulls),
-          R, settings, variance_factor, &report);
+  Verdict(AnalyzeBlock(C.topLeftCorner<3, 3>(), rot_nulls), AnalyzeBlock(C.bottomRightCorner<3, 3>(), trans_nulls), R,
+          settings, variance_factor, &report);
   return report;
 }
 
@@ -130,8 +130,8 @@ NoiseModel VerdictNoise(const NoiseModel& nominal, const NoiseModel& estimated) 
   return n;
 }
 
-double WeakestRotationFromAxes(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
-                               const NoiseModel& noise, Eigen::Vector3d* axis_b) {
+double WeakestRotationFromAxes(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R, const NoiseModel& noise,
+                               Eigen::Vector3d* axis_b) {
   std::vector<Eigen::VectorXd> nulls;
   const Eigen::Matrix3d C = PseudoInverse(RotationInformation(pairs, R, noise), &nulls);
   std::vector<Eigen::Vector3d> parts(nulls.begin(), nulls.end());

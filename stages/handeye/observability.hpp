@@ -24,10 +24,10 @@
 namespace fusecal::handeye {
 
 struct ObservabilityReport {
-  Observability verdict = Observability::kOk;  // kOk, kRotationDegenerate or kTranslationPartlyUnobservable
+  Observability verdict = Observability::kOk;           // kOk, kRotationDegenerate or kTranslationPartlyUnobservable
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // camera frame, unit; zero when ok
-  double rotation_std_deg = 0.0;    // largest standard deviation of the rotation (infinite when null)
-  double translation_std_m = 0.0;   // largest standard deviation of t
+  double rotation_std_deg = 0.0;         // largest standard deviation of the rotation (infinite when null)
+  double translation_std_m = 0.0;        // largest standard deviation of t
   std::vector<Vector6> null_directions;  // exact null vectors in [d_rot ; t] coordinates
 };
 
@@ -46,7 +46,7 @@ NoiseModel VerdictNoise(const NoiseModel& nominal, const NoiseModel& estimated);
 
 // Largest standard deviation (rad) of the rotation as determined by the rotations alone, and its axis in the
 // LiDAR frame (the rotation perturbation coordinates). Infinite for parallel axes.
-double WeakestRotationFromAxes(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
-                               const NoiseModel& noise, Eigen::Vector3d* axis_b);
+double WeakestRotationFromAxes(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R, const NoiseModel& noise,
+                               Eigen::Vector3d* axis_b);
 
 }  // namespace fusecal::handeye

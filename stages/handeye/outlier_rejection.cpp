@@ -48,8 +48,9 @@ bool RejectOrRestoreOne(PairSet* set, const std::vector<MotionPair>& input, cons
       rot_deg.push_back(rot);
       trans_m.push_back(std::isfinite(trans) ? trans : 0.0);
     }
-  const ResidualLimits limits = OutlierLimits(rot_deg, trans_m, NominalMedianResidual(nominal.rot_sigma_rad) * kRadToDeg,
-                                              NominalMedianResidual(nominal.trans_sigma_m), s);
+  const ResidualLimits limits =
+      OutlierLimits(rot_deg, trans_m, NominalMedianResidual(nominal.rot_sigma_rad) * kRadToDeg,
+                    NominalMedianResidual(nominal.trans_sigma_m), s);
   int worst = -1;
   double worst_ratio = 1.0;
   for (int k = 0; k < set->size(); ++k)

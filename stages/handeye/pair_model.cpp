@@ -82,8 +82,8 @@ Matrix6 ResidualCovariance(const MotionPair& pair, const Eigen::Matrix3d& R, con
                            const NoiseModel& noise) {
   const Matrix6 Ja = JacobianWrtA(pair, R, t);
   const Matrix6 Jb = JacobianWrtB(pair, R);
-  const Matrix6 C = Ja * CameraCovariance(pair, noise) * Ja.transpose() +
-                    Jb * LidarCovariance(pair, noise) * Jb.transpose();
+  const Matrix6 C =
+      Ja * CameraCovariance(pair, noise) * Ja.transpose() + Jb * LidarCovariance(pair, noise) * Jb.transpose();
   return 0.5 * (C + C.transpose());
 }
 

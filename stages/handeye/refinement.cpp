@@ -95,8 +95,7 @@ void FillOutput(const ceres::Solver::Summary& summary, RefineOutput* out) {
   // happens at a stationary point (round-off level gradient, or a null direction in a degenerate set). The
   // parameters are the best found, so this counts as converged.
   if (summary.termination_type == ceres::FAILURE && std::isfinite(summary.final_cost) &&
-      summary.final_cost <= summary.initial_cost &&
-      summary.message.find("invalid steps") != std::string::npos) {
+      summary.final_cost <= summary.initial_cost && summary.message.find("invalid steps") != std::string::npos) {
     out->usable = out->converged = true;
   }
   out->iterations = static_cast<int>(summary.iterations.size());
@@ -141,8 +140,8 @@ ceres::Covariance::Options CovarianceOptions() {
 
 }  // namespace
 
-RefineOutput RefineRotation(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R0,
-                            const NoiseModel& noise, bool robust, const HandEyeSettings& settings) {
+RefineOutput RefineRotation(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R0, const NoiseModel& noise,
+                            bool robust, const HandEyeSettings& settings) {
   std::unique_ptr<ceres::LossFunction> loss(MakeLoss(settings, robust));
   double d[3] = {0.0, 0.0, 0.0};
   ceres::Problem problem(ProblemOptions());

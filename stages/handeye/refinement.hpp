@@ -27,8 +27,8 @@ struct RefineOutput {
 
 // Rotation only:  min_R sum_i rho(|W_i Log(R_b^T R^T R_a R)|^2), the geodesic form of the paper's
 // sum_i |R_a R - R R_b|. W_i whitens with R^T Sigma_rot,a R + Sigma_rot,b (evaluated at R0).
-RefineOutput RefineRotation(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R0,
-                            const NoiseModel& noise, bool robust, const HandEyeSettings& settings);
+RefineOutput RefineRotation(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R0, const NoiseModel& noise,
+                            bool robust, const HandEyeSettings& settings);
 
 // Joint:  min_{R,t} sum_i rho(|W_i [Log(R_b^T R^T R_a R) ; (R_a - I) t + t_a - R t_b]|^2), W_i from the
 // first-order covariance of the 6-vector residual (evaluated at R0, t0), see ResidualCovariance.

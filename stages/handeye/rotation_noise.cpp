@@ -66,8 +66,8 @@ std::optional<RotationNoiseByAxis> EstimateRotationNoiseByAxis(const std::vector
     sum_across.col(c) += across.cwiseAbs2();
     // E[across_j^2] = (1 - h_jj) sum_m P_jm^2 v_mc; with P_jj = 1 - k_j^2 as the weight of v_jc (exact for
     // axes along the frame's axes, the motions a rig makes).
-    weight_across.col(c) += (Eigen::Vector3d::Ones() - u.axis.cwiseAbs2())
-                                .cwiseProduct((Eigen::Vector3d::Ones() - leverage).cwiseMax(0.0));
+    weight_across.col(c) +=
+        (Eigen::Vector3d::Ones() - u.axis.cwiseAbs2()).cwiseProduct((Eigen::Vector3d::Ones() - leverage).cwiseMax(0.0));
     sum_axial += along * along;  // J k = 0: the fit leaves the angle's error alone
   }
   const double total_weight = weight_across.sum();

@@ -28,7 +28,7 @@ namespace fusecal::handeye {
 struct RotationNoiseByAxis {
   // Column c: v_xc, v_yc, v_zc (rad^2, LiDAR frame) of the motions turning mostly about the axis c.
   Eigen::Matrix3d across_variance = Eigen::Matrix3d::Zero();
-  double axial_variance = 0.0;                                // v_axial (rad^2)
+  double axial_variance = 0.0;                                   // v_axial (rad^2)
   Eigen::Matrix3d R_camera_lidar = Eigen::Matrix3d::Identity();  // maps the camera's share into its frame
 };
 

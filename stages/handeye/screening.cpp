@@ -26,8 +26,7 @@ std::string TransformProblem(const Isometry3& T, const char* name, double tol) {
 std::string CovarianceProblem(const std::optional<Matrix6>& C, const char* name) {
   if (!C) return {};
   if (!C->allFinite()) return std::string(name) + " has non-finite entries";
-  if ((*C - C->transpose()).norm() > 1e-9 * std::max(1.0, C->norm()))
-    return std::string(name) + " is not symmetric";
+  if ((*C - C->transpose()).norm() > 1e-9 * std::max(1.0, C->norm())) return std::string(name) + " is not symmetric";
   const Eigen::SelfAdjointEigenSolver<Matrix6> eig(*C);
   if (eig.eigenvalues().minCoeff() <= 0.0) return std::string(name) + " is not positive definite";
   return {};
@@ -66,7 +65,7 @@ ScreeningOutcome ScreenPairs(const std::vector<MotionPair>& pairs, const HandEye
           << " deg): axis undefined";
         why = s.str();
       } else if (const double limit = settings.max_angle_difference_deg +
-                                       settings.angle_difference_fraction * std::max(angle_a, angle_b);
+                                      settings.angle_difference_fraction * std::max(angle_a, angle_b);
                  std::abs(angle_a - angle_b) > limit) {
         s << "rotation angles disagree: camera " << angle_a << " deg, LiDAR " << angle_b << " deg (limit " << limit
           << " deg)";
@@ -82,11 +81,11 @@ ScreeningOutcome ScreenPairs(const std::vector<MotionPair>& pairs, const HandEye
 }
 
 ResidualLimits OutlierLimits(const std::vector<double>& rot_residual_deg, const std::vector<double>& trans_residual_m,
-                             double nominal_median_rot_deg, double nominal_median_trans_m,
-                             const HandEyeSettings& s) {
+                             double nominal_median_rot_deg, double nominal_median_trans_m, const HandEyeSettings& s) {
   ResidualLimits limits;
   const double f = s.outlier_factor;
-  limits.rotation_deg = std::max({f * Median(rot_residual_deg), f * nominal_median_rot_deg, s.outlier_min_rotation_deg});
+  limits.rotation_deg =
+      std::max({f * Median(rot_residual_deg), f * nominal_median_rot_deg, s.outlier_min_rotation_deg});
   limits.translation_m =
       std::max({f * Median(trans_residual_m), f * nominal_median_trans_m, s.outlier_min_translation_m});
   return limits;

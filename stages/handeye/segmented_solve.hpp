@@ -19,9 +19,9 @@ struct PairSegment {
 };
 
 struct SegmentedSolve {
-  std::vector<PairSegment> segments;   // one more than changes
+  std::vector<PairSegment> segments;  // one more than changes
   std::vector<ExtrinsicChange> changes;
-  std::vector<int> change_pairs;       // per change: the index of the pair that spans it
+  std::vector<int> change_pairs;  // per change: the index of the pair that spans it
 };
 
 using PairSolver = std::function<HandEyeResult(const std::vector<MotionPair>&)>;

@@ -35,6 +35,6 @@ struct VarianceFactor {
 // kappa for the pairs at (R, t) under `noise`; `scaled`: the whole extrinsic, otherwise the rotation only
 // (a scaleless camera translation has its own unknown scale), whose kappa then stands for both.
 VarianceFactor SerialCorrelationInflation(const std::vector<MotionPair>& pairs, const Eigen::Matrix3d& R,
-                                  const Eigen::Vector3d& t, const NoiseModel& noise, bool scaled);
+                                          const Eigen::Vector3d& t, const NoiseModel& noise, bool scaled);
 
 }  // namespace fusecal::handeye

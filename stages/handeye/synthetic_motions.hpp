@@ -35,10 +35,10 @@ struct SyntheticMotionSettings {
 
 struct SyntheticMotionSet {
   Isometry3 T_camera_lidar = Isometry3::Identity();
-  std::vector<MotionPair> pairs;   // station_i = k, station_j = k + 1
-  std::vector<Isometry3> A_true;   // noise-free camera motions (metric)
-  std::vector<Isometry3> B_true;   // noise-free LiDAR motions
-  std::vector<double> true_scales; // |t_a true|: what SolveScaleless should recover as s_i
+  std::vector<MotionPair> pairs;    // station_i = k, station_j = k + 1
+  std::vector<Isometry3> A_true;    // noise-free camera motions (metric)
+  std::vector<Isometry3> B_true;    // noise-free LiDAR motions
+  std::vector<double> true_scales;  // |t_a true|: what SolveScaleless should recover as s_i
 };
 
 SyntheticMotionSet GenerateSyntheticMotions(const SyntheticMotionSettings& settings);

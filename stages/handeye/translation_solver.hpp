@@ -17,8 +17,8 @@ struct LinearTranslation {
   std::vector<Eigen::Vector3d> null_directions;  // of N (t not determined along them)
   // dt/d(rotation perturbation), R -> R Exp(d): propagates the rotation covariance into t.
   Eigen::Matrix3d dt_drot = Eigen::Matrix3d::Zero();
-  std::vector<double> scales;                   // per pair (0 where t_a = 0); 1 when !with_scales
-  std::vector<Eigen::Vector3d> residuals;       // (R_a - I) t + s_i t_a - R t_b per pair
+  std::vector<double> scales;              // per pair (0 where t_a = 0); 1 when !with_scales
+  std::vector<Eigen::Vector3d> residuals;  // (R_a - I) t + s_i t_a - R t_b per pair
   double residual_sum_squares = 0.0;
   int dof = 0;  // number of equations left after t and the scales
 };

@@ -18,8 +18,8 @@ namespace fusecal::handeye {
 struct TravelDirection {
   Eigen::Vector3d camera = Eigen::Vector3d::UnitZ();  // unit, camera frame
   Eigen::Vector3d lidar = Eigen::Vector3d::UnitX();   // unit, LiDAR frame
-  double spread_deg = 0.0;            // RMS angle between the pairs' camera directions and R lidar_i
-  double largest_rotation_deg = 0.0;  // of the pairs taken
+  double spread_deg = 0.0;                            // RMS angle between the pairs' camera directions and R lidar_i
+  double largest_rotation_deg = 0.0;                  // of the pairs taken
   int pairs = 0;
 };
 

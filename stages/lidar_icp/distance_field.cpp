@@ -89,7 +89,7 @@ float DistanceField::Score(const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
 }
 
 DistanceField::Tally DistanceField::Evaluate(const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
-                                            const std::vector<Eigen::Vector3f>& points) const {
+                                             const std::vector<Eigen::Vector3f>& points) const {
   Tally tally;
   if (cells_.empty() || points.empty()) return tally;
   int32_t sum = 0;

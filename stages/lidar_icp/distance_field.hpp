@@ -26,8 +26,7 @@ class DistanceField {
   float truncation() const { return truncation_; }
 
   // Mean field value over `points` mapped by (R, t), in [-free_space_penalty, 1].
-  float Score(const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
-              const std::vector<Eigen::Vector3f>& points) const;
+  float Score(const Eigen::Matrix3f& R, const Eigen::Vector3f& t, const std::vector<Eigen::Vector3f>& points) const;
 
   // Sum of the values (in units of 1) and the number of points that fell in observed cells (near a
   // surface or in free space).
@@ -35,8 +34,7 @@ class DistanceField {
     float sum = 0.0f;
     int observed = 0;
   };
-  Tally Evaluate(const Eigen::Matrix3f& R, const Eigen::Vector3f& t,
-                 const std::vector<Eigen::Vector3f>& points) const;
+  Tally Evaluate(const Eigen::Matrix3f& R, const Eigen::Vector3f& t, const std::vector<Eigen::Vector3f>& points) const;
 
  private:
   // Calls visit(cell value) for every point that (R, t) maps inside the grid. Inlined into both

@@ -45,14 +45,13 @@ std::vector<Eigen::Matrix3d> RotationGrid(double max_tilt_rad, double step_rad) 
   for (const Eigen::Vector3d& u : directions) {
     const Eigen::Matrix3d S = Swing(u);
     for (int k = 0; k < yaw_steps; ++k)
-      grid.push_back(S * Eigen::AngleAxisd(2.0 * M_PI * k / yaw_steps, Eigen::Vector3d::UnitZ())
-                             .toRotationMatrix());
+      grid.push_back(S * Eigen::AngleAxisd(2.0 * M_PI * k / yaw_steps, Eigen::Vector3d::UnitZ()).toRotationMatrix());
   }
   return grid;
 }
 
-PoseCandidate HillClimb(const DistanceField& field, const std::vector<Eigen::Vector3f>& source,
-                        const Isometry3& T0, double rotation_step_rad, double translation_step_m) {
+PoseCandidate HillClimb(const DistanceField& field, const std::vector<Eigen::Vector3f>& source, const Isometry3& T0,
+                        double rotation_step_rad, double translation_step_m) {
   PoseCandidate best{T0, Objective(field, source, T0)};
   const double min_rotation_step = 0.25 * M_PI / 180.0;
   const double min_translation_step = 0.5 * field.resolution();
@@ -124,8 +123,8 @@ std::vector<PoseCandidate> GlobalCandidates(const DistanceField& field, const Di
     if (static_cast<int>(out.size()) >= options.candidates + static_cast<int>(extra_seeds.size())) break;
     bool distinct = true;
     for (const PoseCandidate& o : out)
-      distinct = distinct && !CloseTo(c.T_target_source, o.T_target_source, 2.0 * M_PI / 180.0,
-                                      2.0 * field.resolution());
+      distinct =
+          distinct && !CloseTo(c.T_target_source, o.T_target_source, 2.0 * M_PI / 180.0, 2.0 * field.resolution());
     if (distinct) out.push_back(c);
   }
   return out;

@@ -38,8 +38,8 @@ double Objective(const DistanceField& field, const std::vector<Eigen::Vector3f>&
 
 // Local 6-DoF ascent of the objective from T: rotation steps about the source origin, translation
 // steps in the target frame, halved when no move improves, down to fine steps.
-PoseCandidate HillClimb(const DistanceField& field, const std::vector<Eigen::Vector3f>& source,
-                        const Isometry3& T, double rotation_step_rad, double translation_step_m);
+PoseCandidate HillClimb(const DistanceField& field, const std::vector<Eigen::Vector3f>& source, const Isometry3& T,
+                        double rotation_step_rad, double translation_step_m);
 
 // Best distinct candidates, best first, each hill-climbed on `field` then on `sharp` (same target, a
 // smaller truncation). `source` are points of the source scan (a few thousand); extra_seeds (e.g. a

@@ -5,8 +5,8 @@
 
 namespace fusecal::lidar_icp {
 
-Linearization Linearize(const PreparedCloud& target, const std::vector<Eigen::Vector3f>& source,
-                        const Isometry3& T, double threshold_m, const IcpOptions& options) {
+Linearization Linearize(const PreparedCloud& target, const std::vector<Eigen::Vector3f>& source, const Isometry3& T,
+                        double threshold_m, const IcpOptions& options) {
   const int threads = options.threads;
   const float tangential_sq = static_cast<float>(options.tangential_limit_m * options.tangential_limit_m);
   constexpr float kTangentialPerRangeSq = 0.015f * 0.015f;
@@ -86,8 +86,8 @@ std::vector<double> ThresholdSchedule(double first_m, double last_m, double shri
   return out;
 }
 
-double Fitness(const PreparedCloud& target, const std::vector<Eigen::Vector3f>& source,
-               const Isometry3& T, double threshold_m, int threads) {
+double Fitness(const PreparedCloud& target, const std::vector<Eigen::Vector3f>& source, const Isometry3& T,
+               double threshold_m, int threads) {
   if (source.empty()) return 0.0;
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();

@@ -30,8 +30,8 @@ struct Linearization {
   Vector6 b = Vector6::Zero();  // sum w J r
   double weighted_sq = 0.0;     // sum w r^2
   double weight_sum = 0.0;
-  double sq_sum = 0.0;          // sum r^2 over inliers (unweighted)
-  size_t inliers = 0;           // source points with a planar target point within the threshold
+  double sq_sum = 0.0;  // sum r^2 over inliers (unweighted)
+  size_t inliers = 0;   // source points with a planar target point within the threshold
 };
 
 Linearization Linearize(const PreparedCloud& target, const std::vector<Eigen::Vector3f>& source,

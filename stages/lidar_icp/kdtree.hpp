@@ -52,8 +52,7 @@ class KdTree {
       return false;
     }
   };
-  using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Adaptor>,
-                                                    Adaptor, 3, uint32_t>;
+  using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Adaptor>, Adaptor, 3, uint32_t>;
   std::unique_ptr<Adaptor> adaptor_;
   std::unique_ptr<Index> index_;
 };

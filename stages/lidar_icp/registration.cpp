@@ -65,28 +65,27 @@ Scales ChooseScales(const RegistrationSettings& s, double fine_voxel) {
 // Both scans, preprocessed once for every stage.
 struct Clouds {
   Scales scales;
-  PreparedCloud target_fine, target_coarse;  // scan i
+  PreparedCloud target_fine, target_coarse;                 // scan i
   std::vector<Eigen::Vector3f> source_fine, source_coarse;  // scan j
-  std::unique_ptr<FreeSpaceImage> free_space;  // of scan i
+  std::unique_ptr<FreeSpaceImage> free_space;               // of scan i
   double free_space_margin_m = 0.3;
 };
 
 // 1. Preprocessing: NaN removal and range crop, voxel grids, target normals. Returns the failure, if any.
-Outcome Prepare(const PointCloud& scan_i, const PointCloud& scan_j, const RegistrationSettings& settings,
-                    int threads, Clouds* c) {
+Outcome Prepare(const PointCloud& scan_i, const PointCloud& scan_j, const RegistrationSettings& settings, int threads,
+                Clouds* c) {
   const std::vector<Eigen::Vector3f> valid_i = ValidPoints(scan_i, settings.min_range_m, settings.max_range_m);
   const std::vector<Eigen::Vector3f> valid_j = ValidPoints(scan_j, settings.min_range_m, settings.max_range_m);
-  for (auto [name, valid, total] :
-       {std::tuple("i", &valid_i, scan_i.size()), std::tuple("j", &valid_j, scan_j.size())})
+  for (auto [name, valid, total] : {std::tuple("i", &valid_i, scan_i.size()), std::tuple("j", &valid_j, scan_j.size())})
     if (static_cast<int>(valid->size()) < settings.min_points)
-      return {Code::kTooFewPoints,
-              "scan " + std::string(name) + " has " + std::to_string(valid->size()) + " valid points of " +
-                  std::to_string(total) + " (finite, range in [" + Format(settings.min_range_m) + ", " +
-                  Format(settings.max_range_m) + "] m), fewer than min_points " + std::to_string(settings.min_points)};
+      return {Code::kTooFewPoints, "scan " + std::string(name) + " has " + std::to_string(valid->size()) +
+                                       " valid points of " + std::to_string(total) + " (finite, range in [" +
+                                       Format(settings.min_range_m) + ", " + Format(settings.max_range_m) +
+                                       "] m), fewer than min_points " + std::to_string(settings.min_points)};
 
   const bool automatic = settings.voxel_size_m <= 0;
-  c->scales = ChooseScales(
-      settings, automatic ? std::clamp(0.012 * MedianRange(valid_i), 0.05, 0.25) : settings.voxel_size_m);
+  c->scales =
+      ChooseScales(settings, automatic ? std::clamp(0.012 * MedianRange(valid_i), 0.05, 0.25) : settings.voxel_size_m);
   c->target_fine.points = VoxelDownsample(valid_i, c->scales.fine_voxel);
   if (automatic && c->target_fine.points.size() > kMaxAutoTargetPoints) {
     // Dense scans of small scenes: a coarser voxel keeps the target (normals, tree) bounded.
@@ -179,7 +178,7 @@ LevelResult RefineFine(const Clouds& c, const std::vector<double>& schedule, con
 
 // 4. Statistics at the last threshold, covariance, acceptance. Returns the failure, if any.
 Outcome Evaluate(const Clouds& c, const IcpOptions& fine, double last, const LevelResult& last_level,
-                     const RegistrationSettings& settings, RegistrationResult* r) {
+                 const RegistrationSettings& settings, RegistrationResult* r) {
   const Linearization lin = Linearize(c.target_fine, c.source_fine, r->T_li_lj, last, fine);
   r->inliers = lin.inliers;
   r->fitness = Fitness(c.target_fine, c.source_fine, r->T_li_lj, last, fine.threads);
@@ -221,9 +220,7 @@ Outcome Evaluate(const Clouds& c, const IcpOptions& fine, double last, const Lev
 }
 
 // Records the outcome of a registration: usable when `outcome` is kNone.
-void Conclude(Outcome outcome, RegistrationResult* result) {
-  result->failure_reason = std::move(outcome);
-}
+void Conclude(Outcome outcome, RegistrationResult* result) { result->failure_reason = std::move(outcome); }
 
 RegistrationResult RegisterImpl(const PointCloud& scan_i, const PointCloud& scan_j, const Isometry3* guess,
                                 const RegistrationSettings& settings) {
@@ -255,8 +252,8 @@ RegistrationResult RegisterImpl(const PointCloud& scan_i, const PointCloud& scan
   icp.convergence_translation_m = settings.convergence_translation_m;
   icp.max_iterations = settings.max_iterations_per_level;
   icp.threads = threads;
-  const std::vector<double> schedule = ThresholdSchedule(clouds.scales.first_threshold,
-                                                         clouds.scales.last_threshold, settings.threshold_shrink);
+  const std::vector<double> schedule =
+      ThresholdSchedule(clouds.scales.first_threshold, clouds.scales.last_threshold, settings.threshold_shrink);
   Isometry3 T = SelectCandidate(clouds, candidates, schedule, icp, settings, &result);
   IcpOptions fine = icp;
   fine.tangential_limit_m = 2.0 * clouds.scales.fine_voxel;
@@ -285,13 +282,12 @@ RegistrationResult Timed(F&& run) {
 
 }  // namespace
 
-RegistrationResult Register(const PointCloud& scan_i, const PointCloud& scan_j,
-                            const RegistrationSettings& settings) {
+RegistrationResult Register(const PointCloud& scan_i, const PointCloud& scan_j, const RegistrationSettings& settings) {
   return Timed([&] { return RegisterImpl(scan_i, scan_j, nullptr, settings); });
 }
 
-RegistrationResult RegisterWithGuess(const PointCloud& scan_i, const PointCloud& scan_j,
-                                     const Isometry3& guess_T_li_lj, const RegistrationSettings& settings) {
+RegistrationResult RegisterWithGuess(const PointCloud& scan_i, const PointCloud& scan_j, const Isometry3& guess_T_li_lj,
+                                     const RegistrationSettings& settings) {
   return Timed([&] { return RegisterImpl(scan_i, scan_j, &guess_T_li_lj, settings); });
 }
 

@@ -30,10 +30,8 @@ std::string RegistrationSettings::Validate() const {
   if (!InRange(rotation_step_deg, 1.0, 45.0)) fail("rotation_step_deg", "must be in [1, 45]");
   if (!InRange(global_candidates, 1, 100)) fail("global_candidates", "must be in [1, 100]");
   if (!InRange(global_sample_points, 100, 1000000)) fail("global_sample_points", "must be in [100, 1e6]");
-  if (!InRange(max_correspondence_m, 0.0, 100.0))
-    fail("max_correspondence_m", "must be in [0, 100] (0 = automatic)");
-  if (!InRange(min_correspondence_m, 0.0, 100.0))
-    fail("min_correspondence_m", "must be in [0, 100] (0 = automatic)");
+  if (!InRange(max_correspondence_m, 0.0, 100.0)) fail("max_correspondence_m", "must be in [0, 100] (0 = automatic)");
+  if (!InRange(min_correspondence_m, 0.0, 100.0)) fail("min_correspondence_m", "must be in [0, 100] (0 = automatic)");
   if (max_correspondence_m > 0 && min_correspondence_m > max_correspondence_m)
     fail("min_correspondence_m", "must not exceed max_correspondence_m");
   if (!InRange(threshold_shrink, 0.05, 0.95)) fail("threshold_shrink", "must be in [0.05, 0.95]");

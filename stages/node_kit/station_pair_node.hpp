@@ -94,7 +94,7 @@ class StationPairNode : public StageNode {
 
   std::string sensor_, channel_;
   int previous_stations_;
-  std::deque<std::pair<int, Prepared>> previous_;  // (station id, prepared), by id, highest last
+  std::deque<std::pair<int, Prepared>> previous_;   // (station id, prepared), by id, highest last
   std::map<int, std::vector<motion_t>> published_;  // per station, for repeats
   std::vector<Subscription> subscriptions_;
   int stations_ = 0, motions_ = 0, failures_ = 0;

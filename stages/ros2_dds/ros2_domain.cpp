@@ -11,7 +11,8 @@ namespace fusecal {
 std::string DdsErrorText(dds_return_t code) { return dds_strretcode(code < 0 ? -code : code); }
 
 dds_entity_t JoinRos2Domain(int domain, size_t receive_buffer_bytes) {
-  if (domain < 0 || domain > 232) throw std::runtime_error("ROS 2 domain " + std::to_string(domain) + " is not in [0, 232]");
+  if (domain < 0 || domain > 232)
+    throw std::runtime_error("ROS 2 domain " + std::to_string(domain) + " is not in [0, 232]");
   static std::mutex mutex;
   static std::set<int> created;
   {

@@ -42,7 +42,8 @@ std::vector<cv::Point2f> GridCorners(const cv::Mat& grey, const ImageMotionSetti
       double value = 0;
       cv::Point at;
       cv::minMaxLoc(eig(cv::Rect(x0, y0, x1 - x0, y1 - y0)), nullptr, &value, nullptr, &at);
-      if (value > 0 && value >= threshold) corners.emplace_back(static_cast<float>(x0 + at.x), static_cast<float>(y0 + at.y));
+      if (value > 0 && value >= threshold)
+        corners.emplace_back(static_cast<float>(x0 + at.x), static_cast<float>(y0 + at.y));
     }
   }
   return corners;
@@ -128,8 +129,8 @@ ImageFlow MeasureFlow(const ImageFrame& from, const ImageFrame& to, const ImageM
     displacement.push_back(std::sqrt(d.dot(d)));
   }
   out.tracks = static_cast<int>(displacement.size());
-  const int needed = std::max(settings.min_tracks,
-                              static_cast<int>(std::ceil(settings.min_tracked_fraction * out.corners)));
+  const int needed =
+      std::max(settings.min_tracks, static_cast<int>(std::ceil(settings.min_tracked_fraction * out.corners)));
   if (out.tracks < needed) {
     out.failure_reason = {ImageFlowFailure::kTrackingLost, "tracking lost (" + std::to_string(out.tracks) + " of " +
                                                                std::to_string(out.corners) + " corners tracked)"};

@@ -16,12 +16,12 @@ namespace fusecal {
 // An image prepared once for tracking from and to.
 struct ImageFrame {
   int64_t utime = 0;
-  cv::Mat grey;                       // working resolution, normalised; empty when not textured
-  std::vector<cv::Point2f> corners;   // Shi-Tomasi corners in `grey`
-  std::vector<cv::Mat> pyramid;       // KLT pyramid of `grey` (cv::buildOpticalFlowPyramid), built once
-  double px_scale = 1.0;              // working pixels -> pixels of an image working_width_px wide
-  double contrast = 0.0;              // standard deviation of the working grey values before normalising
-  bool textured = false;              // contrast >= min_contrast and enough corners
+  cv::Mat grey;                      // working resolution, normalised; empty when not textured
+  std::vector<cv::Point2f> corners;  // Shi-Tomasi corners in `grey`
+  std::vector<cv::Mat> pyramid;      // KLT pyramid of `grey` (cv::buildOpticalFlowPyramid), built once
+  double px_scale = 1.0;             // working pixels -> pixels of an image working_width_px wide
+  double contrast = 0.0;             // standard deviation of the working grey values before normalising
+  bool textured = false;             // contrast >= min_contrast and enough corners
 };
 
 // True when `image` is a non-empty 8-bit image with 1, 3 (BGR) or 4 (BGRA) channels.
@@ -42,9 +42,9 @@ enum class ImageFlowFailure {
 
 struct ImageFlow {
   bool usable() const { return failure_reason.code == ImageFlowFailure::kNone; }
-  double median_px = 0;   // median displacement, pixels of an image working_width_px wide
-  int corners = 0;        // corners tracked from
-  int tracks = 0;         // tracks that passed the forward-backward check
+  double median_px = 0;  // median displacement, pixels of an image working_width_px wide
+  int corners = 0;       // corners tracked from
+  int tracks = 0;        // tracks that passed the forward-backward check
   Failure<ImageFlowFailure> failure_reason{ImageFlowFailure::kNotRun, {}};
 };
 

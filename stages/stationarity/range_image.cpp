@@ -18,8 +18,9 @@ float FastAtan2(float y, float x) {
   const float hi = std::max(ax, ay), lo = std::min(ax, ay);
   if (hi == 0.0f) return 0.0f;
   const float z = lo / hi, z2 = z * z;
-  float a = z * (0.99997726f + z2 * (-0.33262347f + z2 * (0.19354346f + z2 * (-0.11643287f +
-                z2 * (0.05265332f + z2 * -0.01172120f)))));
+  float a =
+      z * (0.99997726f +
+           z2 * (-0.33262347f + z2 * (0.19354346f + z2 * (-0.11643287f + z2 * (0.05265332f + z2 * -0.01172120f)))));
   if (ay > ax) a = 0.5f * kPi - a;
   if (x < 0.0f) a = kPi - a;
   return y < 0.0f ? -a : a;
@@ -40,8 +41,8 @@ RangeImage BuildRangeImage(const PointCloud& cloud, const LidarChangeSettings& s
   }
   img.by_ring = by_ring;
   img.cols = std::max(1, static_cast<int>(std::lround(360.0 / settings.azimuth_bin_deg)));
-  img.rows = by_ring ? settings.max_rings
-                     : std::max(1, static_cast<int>(std::lround(180.0 / settings.elevation_bin_deg)));
+  img.rows =
+      by_ring ? settings.max_rings : std::max(1, static_cast<int>(std::lround(180.0 / settings.elevation_bin_deg)));
   img.range.assign(static_cast<size_t>(img.rows) * img.cols, std::numeric_limits<float>::infinity());
 
   const float min_r = static_cast<float>(settings.min_range_m), max_r = static_cast<float>(settings.max_range_m);

@@ -18,7 +18,7 @@ struct RangeImage {
   bool by_ring = false;      // rows are beams (ring field), else elevation bins
   std::vector<float> range;  // row-major; +inf where empty
   int valid_cells = 0;
-  size_t valid_points = 0;   // finite points within [min_range_m, max_range_m]
+  size_t valid_points = 0;  // finite points within [min_range_m, max_range_m]
 };
 
 // Rows by ring when every point has a ring in [0, max_rings), else by elevation. Points with a non-finite
@@ -27,10 +27,10 @@ RangeImage BuildRangeImage(const PointCloud& cloud, const LidarChangeSettings& s
 
 // Why a LiDAR change cannot decide.
 enum class LidarChangeFailure {
-  kNone,                // usable
-  kNotRun,              // a default-constructed result
-  kLayoutsDiffer,       // the range images differ in layout (ring field in one scan only)
-  kTooFewCommonCells,   // fewer cells valid in both than min_valid_cells
+  kNone,               // usable
+  kNotRun,             // a default-constructed result
+  kLayoutsDiffer,      // the range images differ in layout (ring field in one scan only)
+  kTooFewCommonCells,  // fewer cells valid in both than min_valid_cells
 };
 
 struct LidarChange {

@@ -21,8 +21,7 @@ std::string ImageMotionSettings::Validate() const {
   if (!Positive(max_forward_backward_px)) return "max_forward_backward_px: must be positive";
   if (min_tracks < 3) return "min_tracks: must be at least 3";
   if (min_tracks > max_corners) return "min_tracks: must not exceed max_corners";
-  if (!(min_tracked_fraction >= 0 && min_tracked_fraction <= 1))
-    return "min_tracked_fraction: must be in [0, 1]";
+  if (!(min_tracked_fraction >= 0 && min_tracked_fraction <= 1)) return "min_tracked_fraction: must be in [0, 1]";
   if (!NonNegative(min_contrast)) return "min_contrast: must not be negative";
   if (!Positive(still_flow_px)) return "still_flow_px: must be positive";
   if (!Positive(max_drift_px)) return "max_drift_px: must be positive";
@@ -31,8 +30,7 @@ std::string ImageMotionSettings::Validate() const {
 
 std::string LidarChangeSettings::Validate() const {
   if (!(azimuth_bin_deg >= 0.05 && azimuth_bin_deg <= 45)) return "azimuth_bin_deg: must be in [0.05, 45]";
-  if (!(elevation_bin_deg >= 0.05 && elevation_bin_deg <= 45))
-    return "elevation_bin_deg: must be in [0.05, 45]";
+  if (!(elevation_bin_deg >= 0.05 && elevation_bin_deg <= 45)) return "elevation_bin_deg: must be in [0.05, 45]";
   if (max_rings < 1 || max_rings > 1024) return "max_rings: must be in [1, 1024]";
   if (!NonNegative(min_range_m)) return "min_range_m: must not be negative";
   if (!Positive(max_range_m) || max_range_m <= min_range_m) return "max_range_m: must exceed min_range_m";

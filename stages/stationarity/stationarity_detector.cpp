@@ -75,8 +75,7 @@ std::vector<DetectedStation> StationarityDetector::AddImage(int64_t utime, const
     Reject(UtimeText("image", utime) + ": empty or not an 8-bit grey/BGR image, ignored");
     return {};
   }
-  if (!AcceptTime("image", utime, camera_, &counters_.images_duplicate, &counters_.images_out_of_order))
-    return {};
+  if (!AcceptTime("image", utime, camera_, &counters_.images_duplicate, &counters_.images_out_of_order)) return {};
   ++counters_.images_used;
 
   const bool gap = camera_.seen && utime - camera_.last_utime > ToMicros(settings_.max_frame_gap_s);
@@ -150,8 +149,7 @@ void StationarityDetector::JudgeImageMotion(int64_t utime, const StationImage& i
     else if (!drift.usable())
       camera_.reason = "image, from the anchor: " + drift.failure_reason.text;
     else
-      camera_.reason = Format("image drift %.3f px > %.3f px since the run began", drift.median_px,
-                              is.max_drift_px);
+      camera_.reason = Format("image drift %.3f px > %.3f px since the run began", drift.median_px, is.max_drift_px);
     anchor_image_ = frame;
     images_.clear();
     images_.push_back({utime, image, frame});
@@ -166,8 +164,8 @@ std::vector<DetectedStation> StationarityDetector::AddScan(int64_t utime, const 
   if (range->valid_cells < settings_.lidar.min_valid_cells) {
     ++counters_.scans_empty;
     Reject(UtimeText("scan", utime) + ": " + std::to_string(range->valid_points) + " of " +
-           std::to_string(cloud.size()) + " points valid (finite, in range), " +
-           std::to_string(range->valid_cells) + " cells; ignored as empty");
+           std::to_string(cloud.size()) + " points valid (finite, in range), " + std::to_string(range->valid_cells) +
+           " cells; ignored as empty");
     return {};
   }
   ++counters_.scans_used;
@@ -197,8 +195,7 @@ std::vector<DetectedStation> StationarityDetector::AddScan(int64_t utime, const 
     lidar_drift_m_ = drift.usable() ? drift.change_m : NAN;
     lidar_common_cells_ = change.common_cells;
     const LidarChangeSettings& ls = settings_.lidar;
-    if (change.usable() && drift.usable() && change.change_m <= ls.still_change_m &&
-        drift.change_m <= ls.max_drift_m) {
+    if (change.usable() && drift.usable() && change.change_m <= ls.still_change_m && drift.change_m <= ls.max_drift_m) {
       if (!lidar_.still) {
         lidar_.still = true;
         lidar_.still_since = anchor_scan_utime_;
@@ -258,8 +255,8 @@ std::vector<DetectedStation> StationarityDetector::Evaluate(bool flushing) {
     return out;
   }
   const int64_t from = std::max(camera_.still_since, lidar_.still_since);
-  const int64_t to = flushing ? std::max(camera_.last_utime, lidar_.last_utime)
-                              : std::min(camera_.last_utime, lidar_.last_utime);
+  const int64_t to =
+      flushing ? std::max(camera_.last_utime, lidar_.last_utime) : std::min(camera_.last_utime, lidar_.last_utime);
   if (!run_active_ || from != run_from_) {
     run_active_ = true;
     run_from_ = from;
@@ -282,16 +279,15 @@ std::optional<DetectedStation> StationarityDetector::TryEmit(int64_t from, int64
       ++counters_.still_runs_unpaired;
       run_unpaired_counted_ = true;
     }
-    run_outcome_ = "still, but no image and scan within " + Format("%.3f s", settings_.max_pair_dt_s) +
-                   " of each other yet";
+    run_outcome_ =
+        "still, but no image and scan within " + Format("%.3f s", settings_.max_pair_dt_s) + " of each other yet";
     return std::nullopt;
   }
   const auto [best_image, best_scan] = LatestPairNearClosest(from, to, best_dt, tie);
 
   if (reference_ && !MovedSinceLastStation(*best_image, *best_scan)) {
     ++counters_.stations_same_place;
-    MarkRunHandled("still at the place of station " + std::to_string(next_id_ - 1) +
-                   " (the rig has not moved since)");
+    MarkRunHandled("still at the place of station " + std::to_string(next_id_ - 1) + " (the rig has not moved since)");
     return std::nullopt;
   }
 
@@ -468,10 +464,10 @@ StationarityState StationarityDetector::State() const {
     const Run& self = s.camera_missing ? camera_ : lidar_;
     const Run& other = s.camera_missing ? lidar_ : camera_;
     const char* what = s.camera_missing ? "camera images" : "LiDAR scans";
-    s.reason = std::string("no ") + what +
-               (self.seen ? Format(" for %.1f s", (other.last_utime - self.last_utime) * 1e-6)
-                          : Format(" in %.1f s of the other sensor's data",
-                                   (other.last_utime - other.first_utime) * 1e-6));
+    s.reason =
+        std::string("no ") + what +
+        (self.seen ? Format(" for %.1f s", (other.last_utime - self.last_utime) * 1e-6)
+                   : Format(" in %.1f s of the other sensor's data", (other.last_utime - other.first_utime) * 1e-6));
     return s;
   }
   if (!camera_.still || !lidar_.still) {

@@ -37,14 +37,14 @@
 namespace fusecal {
 
 struct DetectedStation {
-  int id = 0;               // 0, 1, 2, ...
-  int64_t utime = 0;        // the later of image_utime and scan_utime
+  int id = 0;         // 0, 1, 2, ...
+  int64_t utime = 0;  // the later of image_utime and scan_utime
   int64_t image_utime = 0;
-  int64_t scan_utime = 0;   // the chosen scan (the newest of the merged ones)
-  int64_t still_from = 0;   // still interval known at emission
+  int64_t scan_utime = 0;  // the chosen scan (the newest of the merged ones)
+  int64_t still_from = 0;  // still interval known at emission
   int64_t still_to = 0;
-  cv::Mat image;            // as received (a private copy)
-  PointCloud cloud;         // as received, or merge_scans still scans concatenated
+  cv::Mat image;                            // as received (a private copy)
+  PointCloud cloud;                         // as received, or merge_scans still scans concatenated
   std::vector<int64_t> merged_scan_utimes;  // the scans in `cloud`, oldest first
   // Figures at emission: displacement / change from the first frame of the still run to the chosen one.
   double image_drift_px = 0;
@@ -60,14 +60,14 @@ const char* ToString(StationarityPhase phase);
 
 struct StationarityCounters {
   int64_t images_received = 0, images_used = 0;
-  int64_t images_invalid = 0;       // empty, not 8-bit, unsupported channel count
-  int64_t images_duplicate = 0;     // utime equal to the previous image's
-  int64_t images_out_of_order = 0;  // utime before the previous image's
+  int64_t images_invalid = 0;          // empty, not 8-bit, unsupported channel count
+  int64_t images_duplicate = 0;        // utime equal to the previous image's
+  int64_t images_out_of_order = 0;     // utime before the previous image's
   int64_t images_without_texture = 0;  // black / blank frames: stillness undecidable
-  int64_t images_untracked = 0;     // tracking lost (too few tracks)
-  int64_t image_gaps = 0;           // consecutive images further apart than max_frame_gap_s
+  int64_t images_untracked = 0;        // tracking lost (too few tracks)
+  int64_t image_gaps = 0;              // consecutive images further apart than max_frame_gap_s
   int64_t scans_received = 0, scans_used = 0;
-  int64_t scans_empty = 0;          // no valid points (empty, all NaN, all out of range)
+  int64_t scans_empty = 0;  // no valid points (empty, all NaN, all out of range)
   int64_t scans_duplicate = 0;
   int64_t scans_out_of_order = 0;
   int64_t scan_gaps = 0;
@@ -147,16 +147,15 @@ class StationarityDetector {
   };
 
   // Ordering check shared by both sensors; returns false (and counts) when the input is to be ignored.
-  bool AcceptTime(const char* sensor, int64_t utime, const Run& run, int64_t* duplicates,
-                  int64_t* out_of_order);
+  bool AcceptTime(const char* sensor, int64_t utime, const Run& run, int64_t* duplicates, int64_t* out_of_order);
   void Prune();
   std::vector<DetectedStation> Evaluate(bool flushing);
   std::optional<DetectedStation> TryEmit(int64_t from, int64_t to);
   // Steps of AddImage and TryEmit (see the .cpp).
   void JudgeImageMotion(int64_t utime, const StationImage& image, const std::shared_ptr<const ImageFrame>& frame);
   int64_t ClosestPairDt(int64_t from, int64_t to) const;
-  std::pair<const BufferedImage*, const BufferedScan*> LatestPairNearClosest(int64_t from, int64_t to,
-                                                                             int64_t best_dt, int64_t tie) const;
+  std::pair<const BufferedImage*, const BufferedScan*> LatestPairNearClosest(int64_t from, int64_t to, int64_t best_dt,
+                                                                             int64_t tie) const;
   DetectedStation BuildStation(const BufferedImage& best_image, const BufferedScan& best_scan, int64_t from,
                                int64_t to);
   static void MergeScanClouds(const std::vector<const BufferedScan*>& merged, const BufferedScan& best_scan,
@@ -182,9 +181,9 @@ class StationarityDetector {
   // Combined still run.
   bool run_active_ = false;
   int64_t run_from_ = 0;
-  bool run_handled_ = false;   // emitted or suppressed
+  bool run_handled_ = false;  // emitted or suppressed
   bool run_unpaired_counted_ = false;
-  std::string run_outcome_;    // what became of the run, for State().reason
+  std::string run_outcome_;  // what became of the run, for State().reason
 
   std::optional<Reference> reference_;
   int next_id_ = 0;

@@ -24,7 +24,7 @@ int FuzzOneLcmLog(const uint8_t* data, size_t size) {
 
 int FuzzOneGroundTruthLog(const uint8_t* data, size_t size) {
   const std::string path = WriteScratchFile("fuzz-truth.log", data, size);
-  IgnoringRejection([&] { ReadReferenceExtrinsic(path); });  // `fusecal evaluate --reference LOG`
+  IgnoringRejection([&] { ReadReferenceExtrinsic(path); });      // `fusecal evaluate --reference LOG`
   IgnoringRejection([&] { ReadReference(path, int64_t{25}); });  // ... --at-utime 25
   return 0;
 }

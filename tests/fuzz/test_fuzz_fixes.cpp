@@ -11,10 +11,10 @@
 
 #include "formats/conversions.hpp"
 #include "formats/image_header.hpp"
-#include "fuzz_support.hpp"
 #include "fusecal/motion_set_t.hpp"
 #include "fusecal/point_cloud_t.hpp"
 #include "fusecal/status_t.hpp"
+#include "fuzz_support.hpp"
 #include "importers/ishikawa.hpp"
 #include "importers/kitti.hpp"
 #include "runtime/bus.hpp"
@@ -86,8 +86,24 @@ TEST(HardenedLcmDecoders, ValidMessagesDecodeAsBefore) {
 
 // SOI, an SOF0 of `width` x `height` and nothing else: a few bytes that declare any size.
 std::vector<uint8_t> JpegHeader(int width, int height) {
-  return {0xff, 0xd8, 0xff, 0xe0, 0x00, 0x04, 0x00, 0x00, 0xff, 0xc0, 0x00, 0x11, 0x08,
-          uint8_t(height >> 8), uint8_t(height), uint8_t(width >> 8), uint8_t(width), 0x03};
+  return {0xff,
+          0xd8,
+          0xff,
+          0xe0,
+          0x00,
+          0x04,
+          0x00,
+          0x00,
+          0xff,
+          0xc0,
+          0x00,
+          0x11,
+          0x08,
+          uint8_t(height >> 8),
+          uint8_t(height),
+          uint8_t(width >> 8),
+          uint8_t(width),
+          0x03};
 }
 
 TEST(CompressedImages, TheHeaderSizeIsReadWithoutDecoding) {
@@ -196,18 +212,20 @@ TEST(ScanFiles, PcdHeadersThatPclWouldTrustAreRejected) {
 
 TEST(ScanFiles, PlyHeadersThatPclWouldTrustAreRejected) {
   const std::string head = "ply\nformat binary_little_endian 1.0\n";
-  ExpectRejected(ScanFile("list.ply", head + "element vertex 1\nproperty float x\nproperty float y\nproperty float z\n" +
-                                          "property list uchar int extra\nend_header\n" + std::string(32, '\0')),
-                 "list property in the vertex element");
+  ExpectRejected(
+      ScanFile("list.ply", head + "element vertex 1\nproperty float x\nproperty float y\nproperty float z\n" +
+                               "property list uchar int extra\nend_header\n" + std::string(32, '\0')),
+      "list property in the vertex element");
   ExpectRejected(ScanFile("many.ply", head + "element vertex 1000000000\nproperty float x\nproperty float y\n" +
                                           "property float z\nend_header\n" + std::string(24, '\0')),
                  "declares 1000000000 instances");
 }
 
 TEST(PlyWithPose, ADeclaredVertexCountIsNotAllocatedBeforeTheDataIsThere) {
-  const std::string path = ScanFile("posed.ply", "ply\nformat ascii 1.0\nelement vertex 66666666666666\n"
-                                                 "property float x\nproperty float y\nproperty float z\n"
-                                                 "end_header\n1 2 3\n");
+  const std::string path = ScanFile("posed.ply",
+                                    "ply\nformat ascii 1.0\nelement vertex 66666666666666\n"
+                                    "property float x\nproperty float y\nproperty float z\n"
+                                    "end_header\n1 2 3\n");
   EXPECT_THROW(ReadPlyWithPose(path), std::runtime_error);
 }
 

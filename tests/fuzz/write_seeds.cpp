@@ -202,7 +202,8 @@ void WriteLogSeeds() {
                w.WriteMessage(channels::kExtrinsic, 3, Extrinsic());
                w.Write("EMPTY", 4, "", 0);
              }));
-  WriteBytes("lcm_log", "station", Log([](LogWriter& w) { w.WriteMessage(channels::kStation, 5, Station(0, "mono8")); }));
+  WriteBytes("lcm_log", "station",
+             Log([](LogWriter& w) { w.WriteMessage(channels::kStation, 5, Station(0, "mono8")); }));
   WriteBytes("lcm_log", "empty", {});
   WriteBytes("ground_truth_log", "truth", Log([](LogWriter& w) {
                w.WriteMessage(channels::kStatus, 1, Status());
@@ -212,8 +213,8 @@ void WriteLogSeeds() {
                w.WriteMessage(channels::kGroundTruth, 1, GroundTruth());
                ground_truth_t moved = GroundTruth();
                moved.utime = 25;
-               ToRowMajor(FromRowMajor(moved.T_camera_lidar) * MakeIsometry(RotationFromRpy(0.02, 0.0, 0.0),
-                                                                             Eigen::Vector3d(0.02, 0.0, 0.0)),
+               ToRowMajor(FromRowMajor(moved.T_camera_lidar) *
+                              MakeIsometry(RotationFromRpy(0.02, 0.0, 0.0), Eigen::Vector3d(0.02, 0.0, 0.0)),
                           moved.T_camera_lidar);
                w.WriteMessage(channels::kGroundTruth, 25, moved);
              }));
@@ -264,8 +265,10 @@ RosPointCloud2 RosCloud() {
   msg.header = RosHeader{RosTime{1700000000, 5000}, "velodyne"};
   msg.height = 1;
   msg.width = 3;
-  msg.fields = {{"x", 0, RosPointField::FLOAT32, 1}, {"y", 4, RosPointField::FLOAT32, 1},
-                {"z", 8, RosPointField::FLOAT32, 1}, {"intensity", 12, RosPointField::FLOAT32, 1},
+  msg.fields = {{"x", 0, RosPointField::FLOAT32, 1},
+                {"y", 4, RosPointField::FLOAT32, 1},
+                {"z", 8, RosPointField::FLOAT32, 1},
+                {"intensity", 12, RosPointField::FLOAT32, 1},
                 {"ring", 16, RosPointField::UINT16, 1}};
   msg.point_step = 18;
   msg.row_step = 54;

@@ -4,11 +4,11 @@
 #include <chrono>
 #include <fstream>
 
+#include "formats/conversions.hpp"
 #include "fusecal/image_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/channel_pattern.hpp"
-#include "formats/conversions.hpp"
 #include "support/sample_messages.hpp"
 
 namespace fusecal {
@@ -19,8 +19,8 @@ using testing_utils::MakeStatus;
 TEST(MemqBus, TypedRoundTrip) {
   auto bus = MakeBus("memq://");
   std::vector<status_t> received;
-  auto sub = bus->Subscribe<status_t>("STATUS", std::function<void(const status_t&)>(
-                                                    [&](const status_t& m) { received.push_back(m); }));
+  auto sub = bus->Subscribe<status_t>(
+      "STATUS", std::function<void(const status_t&)>([&](const status_t& m) { received.push_back(m); }));
   bus->Publish("STATUS", MakeStatus("probe"));
   bus->Publish("OTHER", MakeStatus("ignored"));
   EXPECT_EQ(bus->Handle(100), 1);  // OTHER has no subscriber
@@ -66,8 +66,8 @@ TEST(MemqBus, PatternsAreMatchedInLinearTimeAndBadOnesAreNamed) {
   auto bus = MakeBus("memq://");
   int trapped = 0, nested = 0;
   auto trap = bus->SubscribeRaw("(a|aa)*c", [&](const RawMessage&) { ++trapped; });
-  auto deep = bus->SubscribeRaw(std::string(2000, '(') + "A" + std::string(2000, ')'),
-                                [&](const RawMessage&) { ++nested; });
+  auto deep =
+      bus->SubscribeRaw(std::string(2000, '(') + "A" + std::string(2000, ')'), [&](const RawMessage&) { ++nested; });
   bus->PublishRaw(std::string(20000, 'a'), "x", 1);
   bus->PublishRaw("aac", "x", 1);
   bus->PublishRaw("A", "x", 1);
@@ -156,17 +156,16 @@ int64_t ReadRmemMax() {
 // (`fusecal doctor --fix`, which tools/test runs); fails with the reason otherwise.
 TEST(UdpmBus, SixMegabyteMessageArrivesIntact) {
   constexpr int64_t kBuffer = 64 << 20;
-  ASSERT_GE(ReadRmemMax(), kBuffer)
-      << "net.core.rmem_max is below 64 MB: large UDP messages would be dropped. Run "
-         "`sysctl -w net.core.rmem_max=67108864` (or `fusecal doctor --fix` as root).";
+  ASSERT_GE(ReadRmemMax(), kBuffer) << "net.core.rmem_max is below 64 MB: large UDP messages would be dropped. Run "
+                                       "`sysctl -w net.core.rmem_max=67108864` (or `fusecal doctor --fix` as root).";
   auto bus = MakeBus("udpm://239.255.76.67:7671?ttl=0&recv_buf_size=67108864");
   cv::Mat pixels(1024, 2048, CV_8UC3);
   cv::randu(pixels, 0, 255);
   const image_t sent = MatToImage(pixels, "bgr8", 99);
   ASSERT_GT(sent.data.size(), 6000000u);
   std::vector<uint8_t> received;
-  auto sub = bus->Subscribe<image_t>("BIG", std::function<void(const image_t&)>(
-                                                [&](const image_t& m) { received = m.data; }));
+  auto sub =
+      bus->Subscribe<image_t>("BIG", std::function<void(const image_t&)>([&](const image_t& m) { received = m.data; }));
   bus->Publish("BIG", sent);
   for (int i = 0; i < 30 && received.empty(); ++i) bus->Handle(100);
   ASSERT_EQ(received.size(), sent.data.size()) << "the 6 MB message did not arrive within 3 s";

@@ -79,8 +79,7 @@ std::string ValidationError(const std::string& problem, const std::map<std::stri
 TEST(Config, ValidateMessagesNameTheKey) {
   EXPECT_EQ(ValidationError(""), "");
   EXPECT_EQ(ValidationError("beams: must be in [1, 128]"), "<string>: 'lidar.beams' must be in [1, 128]");
-  EXPECT_EQ(ValidationError("max_range_m must be in [0, 1e5]"),
-            "<string>: 'lidar.max_range_m' must be in [0, 1e5]");
+  EXPECT_EQ(ValidationError("max_range_m must be in [0, 1e5]"), "<string>: 'lidar.max_range_m' must be in [0, 1e5]");
   // A field that Validate() names otherwise.
   EXPECT_EQ(ValidationError("sensor.beams: must be in [1, 128]", {{"beams", "sensor.beams"}}),
             "<string>: 'lidar.beams' must be in [1, 128]");
@@ -163,7 +162,8 @@ TEST(StrictYaml, EmptyEntriesInAFlowCollectionAreErrorsWithTheLine) {
     LoadStrictYaml("a: 1\nb: {c: [,1]}\n", "f.yaml");
     FAIL() << "an empty flow entry was accepted";
   } catch (const YamlError& e) {
-    EXPECT_NE(std::string(e.what()).find("f.yaml:2: an empty entry in a flow collection"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("f.yaml:2: an empty entry in a flow collection"), std::string::npos)
+        << e.what();
   }
   // Not empty entries: a trailing comma, commas in quotes, in comments and in block scalars.
   EXPECT_EQ(LoadStrictYaml("b: [1, 2, ]\n", "f.yaml")["b"].size(), 2u);
@@ -207,7 +207,8 @@ TEST(StrictYaml, AQuoteLeftOpenIsAnErrorWhereItOpens) {
   ExpectYamlError("a: 'open\n", "f.yaml:1:");
   // Escapes are not closing quotes; closed values spanning lines are fine.
   ExpectYamlError("a: \"x\\\"\n", "never closed");
-  EXPECT_EQ(LoadStrictYaml("a: 'it''s'\nb: \"q\\\"q\"\nc: \"two\n  lines\"\n", "f.yaml")["a"].as<std::string>(), "it's");
+  EXPECT_EQ(LoadStrictYaml("a: 'it''s'\nb: \"q\\\"q\"\nc: \"two\n  lines\"\n", "f.yaml")["a"].as<std::string>(),
+            "it's");
 }
 
 TEST(StrictYaml, SyntaxErrorsAndDirectoriesNameTheFileAndLine) {

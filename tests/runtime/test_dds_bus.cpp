@@ -3,20 +3,20 @@
 // for 8 MB messages and runs the same tests over shared memory on domain 18, plus its own.
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <chrono>
-#include <cstdlib>
 #include <fcntl.h>
-#include <opencv2/core.hpp>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <opencv2/core.hpp>
 
+#include "formats/conversions.hpp"
 #include "fusecal/image_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
-#include "formats/conversions.hpp"
 #include "runtime/dds/dds_bus.hpp"
 #include "runtime/shared_memory.hpp"
 #include "support/sample_messages.hpp"
@@ -35,7 +35,8 @@ class RoudiEnvironment : public testing::Environment {
   void SetUp() override {
     if (std::getenv("FUSECAL_DDS_ECHO_PEER")) return;
     ASSERT_TRUE(shm::WaitUntilRoudiGone()) << "another RouDi is running on this machine; stop it to run these tests";
-    roudi_ = std::make_unique<shm::RoudiProcess>(testing::TempDir() + "fusecal_dds_roudi_" + std::to_string(getpid()), kPlan);
+    roudi_ = std::make_unique<shm::RoudiProcess>(testing::TempDir() + "fusecal_dds_roudi_" + std::to_string(getpid()),
+                                                 kPlan);
     roudi_->Start();
   }
   // This process is attached to RouDi, and stopping RouDi would end it: RouDi ends when it exits.
@@ -56,8 +57,8 @@ TEST(DdsBus, TypedRoundTrip) {
   auto bus = MakeBus(kUrl);
   EXPECT_EQ(bus->url(), kUrl);
   std::vector<status_t> received;
-  auto sub = bus->Subscribe<status_t>("STATUS", std::function<void(const status_t&)>(
-                                                    [&](const status_t& m) { received.push_back(m); }));
+  auto sub = bus->Subscribe<status_t>(
+      "STATUS", std::function<void(const status_t&)>([&](const status_t& m) { received.push_back(m); }));
   bus->Publish("STATUS", MakeStatus("probe"));
   bus->Publish("OTHER", MakeStatus("ignored"));
   int handled = 0;
@@ -115,13 +116,12 @@ TEST(DdsBus, SixMegabyteImageArrivesIntact) {
   const image_t sent = MatToImage(pixels, "bgr8", 99);
   ASSERT_GT(sent.data.size(), 6000000u);
   std::vector<uint8_t> received;
-  auto sub = bus->Subscribe<image_t>("BIG", std::function<void(const image_t&)>(
-                                                [&](const image_t& m) { received = m.data; }));
+  auto sub =
+      bus->Subscribe<image_t>("BIG", std::function<void(const image_t&)>([&](const image_t& m) { received = m.data; }));
   const auto start = std::chrono::steady_clock::now();
   bus->Publish("BIG", sent);
   for (int i = 0; i < 30 && received.empty(); ++i) bus->Handle(100);
-  const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   ASSERT_EQ(received.size(), sent.data.size()) << "the 6 MB message did not arrive within 3 s";
   EXPECT_TRUE(received == sent.data);
   std::printf("6 MB image round trip (same process, encode+publish+take+decode): %.1f ms\n", ms);

@@ -42,7 +42,8 @@ class RoudiEnvironment : public testing::Environment {
   void SetUp() override {
     if (std::getenv("FUSECAL_IOX_ECHO_PEER")) return;
     ASSERT_TRUE(shm::WaitUntilRoudiGone()) << "another RouDi is running on this machine; stop it to run these tests";
-    roudi_ = std::make_unique<shm::RoudiProcess>(testing::TempDir() + "fusecal_iox_roudi_" + std::to_string(getpid()), kPlan);
+    roudi_ = std::make_unique<shm::RoudiProcess>(testing::TempDir() + "fusecal_iox_roudi_" + std::to_string(getpid()),
+                                                 kPlan);
     roudi_->Start();
   }
   // This process is attached to RouDi, and stopping RouDi would end it: RouDi ends when it exits.
@@ -64,8 +65,8 @@ TEST(IoxBus, TypedRoundTrip) {
   auto bus = MakeBus(kUrl);
   EXPECT_EQ(bus->url(), kUrl);
   std::vector<status_t> received;
-  auto sub = bus->Subscribe<status_t>("STATUS", std::function<void(const status_t&)>(
-                                                    [&](const status_t& m) { received.push_back(m); }));
+  auto sub = bus->Subscribe<status_t>(
+      "STATUS", std::function<void(const status_t&)>([&](const status_t& m) { received.push_back(m); }));
   bus->Publish("STATUS", MakeStatus("probe"));
   bus->Publish("OTHER", MakeStatus("ignored"));
   HandleUntil(*bus, [&] { return !received.empty(); });
@@ -146,8 +147,8 @@ TEST(IoxBus, SixMegabyteImageArrivesIntact) {
   const image_t sent = MatToImage(pixels, "bgr8", 99);
   ASSERT_GT(sent.data.size(), 6000000u);
   std::vector<uint8_t> received;
-  auto sub = bus->Subscribe<image_t>("BIG", std::function<void(const image_t&)>(
-                                                [&](const image_t& m) { received = m.data; }));
+  auto sub =
+      bus->Subscribe<image_t>("BIG", std::function<void(const image_t&)>([&](const image_t& m) { received = m.data; }));
   bus->Publish("BIG", sent);
   HandleUntil(*bus, [&] { return !received.empty(); });
   ASSERT_EQ(received.size(), sent.data.size()) << "the 6 MB message did not arrive within 3 s";
@@ -311,7 +312,8 @@ TEST(IoxBus, CrossProcessSmallAndSixMegabyteRoundTrip) {
     sent.utime = ++id;
     const auto start = Clock::now();
     bus->Publish("PING", sent);
-    HandleUntil(*bus, [&] { return std::find(echoed.begin(), echoed.end(), id) != echoed.end(); }, 2000);
+    HandleUntil(
+        *bus, [&] { return std::find(echoed.begin(), echoed.end(), id) != echoed.end(); }, 2000);
     if (std::find(echoed.begin(), echoed.end(), id) == echoed.end()) break;
     times_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
   }
@@ -325,9 +327,10 @@ TEST(IoxBus, CrossProcessSmallAndSixMegabyteRoundTrip) {
   ASSERT_EQ(times_ms.size(), 5u) << "the 6 MB ping/echo with a second process did not complete";
   EXPECT_TRUE(last == sent.data);
   std::sort(times_ms.begin(), times_ms.end());
-  std::printf("6 MB round trip between two processes over iox:// (encode, publish, decode, both ways): median "
-              "%.1f ms, max %.1f ms\n",
-              times_ms[2], times_ms[4]);
+  std::printf(
+      "6 MB round trip between two processes over iox:// (encode, publish, decode, both ways): median "
+      "%.1f ms, max %.1f ms\n",
+      times_ms[2], times_ms[4]);
 }
 
 // What `fusecal run` puts between its coordinator (here memq://, which, like LCM multicast, hands a bus its

@@ -45,8 +45,8 @@ TEST(LcmLog, LcmOwnFileProviderReadsOurLogs) {
   WriteThreeEvents(path);
   auto bus = MakeBus("file://" + path + "?speed=0");
   std::vector<std::string> names;
-  auto sub = bus->Subscribe<status_t>("STATUS", std::function<void(const status_t&)>(
-                                                    [&](const status_t& m) { names.push_back(m.name); }));
+  auto sub = bus->Subscribe<status_t>(
+      "STATUS", std::function<void(const status_t&)>([&](const status_t& m) { names.push_back(m.name); }));
   for (int i = 0; i < 3; ++i) bus->Handle(1000);
   EXPECT_EQ(names, (std::vector<std::string>{"n0", "n1", "n2"}));
 }

@@ -9,9 +9,9 @@
 #include <thread>
 
 #include "fusecal/status_t.hpp"
-#include "support/process_utils.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/stage_main.hpp"
+#include "support/process_utils.hpp"
 
 namespace fusecal {
 namespace {
@@ -39,13 +39,11 @@ TEST(StageMain, HeartbeatSurvivesHandlerErrorsAndStopsCleanlyOnSigterm) {
   auto bus = MakeBus(kUrl);
   std::vector<status_t> statuses;
   std::vector<std::string> replies;
-  auto s1 = bus->Subscribe<status_t>(kStatusChannel, std::function<void(const status_t&)>(
-                                                         [&](const status_t& m) {
-                                                           if (m.name == "probe") statuses.push_back(m);
-                                                         }));
-  auto s2 = bus->SubscribeRaw("PROBE_OUT", [&](const RawMessage& m) {
-    replies.emplace_back(reinterpret_cast<const char*>(m.data), m.size);
-  });
+  auto s1 = bus->Subscribe<status_t>(kStatusChannel, std::function<void(const status_t&)>([&](const status_t& m) {
+                                       if (m.name == "probe") statuses.push_back(m);
+                                     }));
+  auto s2 = bus->SubscribeRaw(
+      "PROBE_OUT", [&](const RawMessage& m) { replies.emplace_back(reinterpret_cast<const char*>(m.data), m.size); });
 
   const pid_t pid = fork();
   ASSERT_GE(pid, 0);

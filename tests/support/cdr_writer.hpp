@@ -22,7 +22,7 @@ class CdrWriter {
   void U32(uint32_t value);
   void I32(int32_t value) { U32(static_cast<uint32_t>(value)); }
   void F64(double value);
-  void String(const std::string& value);          // length with the NUL, bytes, NUL
+  void String(const std::string& value);           // length with the NUL, bytes, NUL
   void Bytes(const std::vector<uint8_t>& values);  // uint8[]: count, bytes
   void Header(const RosHeader& header);
   const std::vector<uint8_t>& bytes() const { return bytes_; }

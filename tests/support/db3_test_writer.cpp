@@ -22,8 +22,8 @@ void Execute(sqlite3* db, const std::string& sql) {
 
 void InsertMessages(sqlite3* db, const std::vector<BagMessage>& messages) {
   sqlite3_stmt* raw = nullptr;
-  if (sqlite3_prepare_v2(db, "INSERT INTO messages (topic_id, timestamp, data) VALUES (?, ?, ?)", -1, &raw,
-                         nullptr) != SQLITE_OK)
+  if (sqlite3_prepare_v2(db, "INSERT INTO messages (topic_id, timestamp, data) VALUES (?, ?, ?)", -1, &raw, nullptr) !=
+      SQLITE_OK)
     throw std::runtime_error(std::string("sqlite: ") + sqlite3_errmsg(db));
   std::unique_ptr<sqlite3_stmt, int (*)(sqlite3_stmt*)> insert(raw, sqlite3_finalize);
   for (const BagMessage& m : messages) {
@@ -33,7 +33,8 @@ void InsertMessages(sqlite3* db, const std::vector<BagMessage>& messages) {
     static const uint8_t kNothing = 0;
     sqlite3_bind_blob(insert.get(), 3, m.data.empty() ? &kNothing : m.data.data(), static_cast<int>(m.data.size()),
                       SQLITE_TRANSIENT);
-    if (sqlite3_step(insert.get()) != SQLITE_DONE) throw std::runtime_error(std::string("sqlite: ") + sqlite3_errmsg(db));
+    if (sqlite3_step(insert.get()) != SQLITE_DONE)
+      throw std::runtime_error(std::string("sqlite: ") + sqlite3_errmsg(db));
     sqlite3_reset(insert.get());
   }
 }
@@ -50,15 +51,17 @@ void WriteDb3(const std::string& path, const std::vector<BagTopic>& topics, cons
   }
   std::unique_ptr<sqlite3, int (*)(sqlite3*)> db(raw, sqlite3_close);
   if (options.topics_table) {
-    Execute(db.get(), "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, "
-                      "serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL)");
+    Execute(db.get(),
+            "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, "
+            "serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL)");
     for (size_t t = 0; t < topics.size(); ++t)
       Execute(db.get(), "INSERT INTO topics VALUES (" + std::to_string(t + 1) + ", '" + topics[t].name + "', '" +
                             topics[t].type + "', '" + topics[t].serialization_format + "', '')");
   }
   if (!options.messages_table) return;
-  Execute(db.get(), "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, "
-                    "timestamp INTEGER NOT NULL, data BLOB NOT NULL)");
+  Execute(db.get(),
+          "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, "
+          "timestamp INTEGER NOT NULL, data BLOB NOT NULL)");
   if (options.timestamp_index) Execute(db.get(), "CREATE INDEX timestamp_idx ON messages (timestamp ASC)");
   Execute(db.get(), "BEGIN");
   InsertMessages(db.get(), messages);

@@ -14,8 +14,19 @@ namespace fusecal::testing {
 namespace {
 
 const std::vector<uint8_t> kMagic = {0x89, 'M', 'C', 'A', 'P', '0', '\r', '\n'};
-enum Opcode : uint8_t { kHeader = 1, kFooter, kSchema, kChannel, kMessage, kChunk, kMessageIndex, kChunkIndex,
-                        kStatistics = 0x0B, kSummaryOffset = 0x0E, kDataEnd = 0x0F };
+enum Opcode : uint8_t {
+  kHeader = 1,
+  kFooter,
+  kSchema,
+  kChannel,
+  kMessage,
+  kChunk,
+  kMessageIndex,
+  kChunkIndex,
+  kStatistics = 0x0B,
+  kSummaryOffset = 0x0E,
+  kDataEnd = 0x0F
+};
 
 struct Bytes {
   std::vector<uint8_t> b;

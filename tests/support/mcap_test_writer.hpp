@@ -11,8 +11,8 @@
 namespace fusecal::testing {
 
 struct BagTopic {
-  std::string name;                        // "/camera/image_raw"
-  std::string type;                        // "sensor_msgs/msg/Image"
+  std::string name;  // "/camera/image_raw"
+  std::string type;  // "sensor_msgs/msg/Image"
   std::string serialization_format = "cdr";
 };
 

@@ -14,9 +14,8 @@ class ProbeNode : public fusecal::StageNode {
       const std::string reply = prefix_ + std::string(reinterpret_cast<const char*>(m.data), m.size);
       bus.PublishRaw("PROBE_OUT", reply.data(), reply.size());
     }));
-    subs_.push_back(bus.SubscribeRaw("PROBE_THROW", [](const fusecal::RawMessage&) {
-      throw std::runtime_error("probe asked to fail");
-    }));
+    subs_.push_back(bus.SubscribeRaw(
+        "PROBE_THROW", [](const fusecal::RawMessage&) { throw std::runtime_error("probe asked to fail"); }));
   }
   fusecal::StageStatus Status() const override {
     fusecal::StageStatus s;

@@ -16,9 +16,7 @@
 
 namespace fusecal::stationarity_test {
 
-inline std::string ScenarioPath(const std::string& name) {
-  return std::string(FUSECAL_SCENARIO_DIR) + "/" + name;
-}
+inline std::string ScenarioPath(const std::string& name) { return std::string(FUSECAL_SCENARIO_DIR) + "/" + name; }
 
 inline PointCloud ToPointCloud(const sim::SimulatedScan& scan) {
   PointCloud c;
@@ -87,10 +85,10 @@ inline std::vector<EmittedStation> Replay(const std::vector<Frame>& frames, Stat
 // Scores stations against the true still intervals.
 struct Score {
   int true_intervals = 0;
-  int found = 0;            // intervals with exactly one station inside
-  int missed = 0;           // intervals with none
-  int duplicates = 0;       // extra stations in an interval
-  int during_motion = 0;    // stations whose image or scan was not taken inside a still interval
+  int found = 0;               // intervals with exactly one station inside
+  int missed = 0;              // intervals with none
+  int duplicates = 0;          // extra stations in an interval
+  int during_motion = 0;       // stations whose image or scan was not taken inside a still interval
   double worst_latency_s = 0;  // emission time - (true start + min_still_s), worst over found stations
 };
 

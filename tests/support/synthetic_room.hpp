@@ -2,8 +2,8 @@
 // for the camera front end's tests and benchmark.
 //
 // World frame axes as the camera's (x right, y down, z forward); the room spans
-// [-3, 3] x [-1.5, 1.5] x [-4, 4] m. Each of the six faces carries a photograph (camera_frontend_data/README.md), flipped
-// differently so that no two faces look alike.
+// [-3, 3] x [-1.5, 1.5] x [-4, 4] m. Each of the six faces carries a photograph (camera_frontend_data/README.md),
+// flipped differently so that no two faces look alike.
 #pragma once
 
 #include <array>

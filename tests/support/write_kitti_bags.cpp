@@ -79,7 +79,8 @@ std::vector<RecordedMessage> Recording(const fs::path& kitti, size_t frames) {
     compressed.header = raw.header;
     compressed.format = "rgb8; png compressed bgr8";
     compressed.data = std::move(png);
-    recording.push_back({kCameraInfoTopic, utime + 2000, ToRosCameraInfo(calib.camera, Header(utime, "camera_color_left")), {}});
+    recording.push_back(
+        {kCameraInfoTopic, utime + 2000, ToRosCameraInfo(calib.camera, Header(utime, "camera_color_left")), {}});
     recording.push_back({kImageTopic, utime + 15000, std::move(raw), {}});
     recording.push_back({kCompressedTopic, utime + 20000, std::move(compressed), {}});
   }
@@ -91,8 +92,10 @@ std::vector<RecordedMessage> Recording(const fs::path& kitti, size_t frames) {
     if (cloud.data.size() % 16 != 0) throw std::runtime_error(path.string() + ": not a whole number of points");
     cloud.height = 1;
     cloud.width = static_cast<uint32_t>(cloud.data.size() / 16);
-    cloud.fields = {{"x", 0, RosPointField::FLOAT32, 1}, {"y", 4, RosPointField::FLOAT32, 1},
-                    {"z", 8, RosPointField::FLOAT32, 1}, {"intensity", 12, RosPointField::FLOAT32, 1}};
+    cloud.fields = {{"x", 0, RosPointField::FLOAT32, 1},
+                    {"y", 4, RosPointField::FLOAT32, 1},
+                    {"z", 8, RosPointField::FLOAT32, 1},
+                    {"intensity", 12, RosPointField::FLOAT32, 1}};
     cloud.point_step = 16;
     cloud.row_step = static_cast<uint32_t>(cloud.data.size());
     cloud.is_dense = true;
@@ -118,10 +121,14 @@ void WriteBag(const std::string& format, const std::vector<RecordedMessage>& rec
   }
   testing::McapWriteOptions options;
   options.messages_per_chunk = 8;  // a chunk of a few MB, as rosbag2's default chunk size gives
-  if (format == "mcap-zstd") options.compression = "zstd";
-  else if (format == "mcap-lz4") options.compression = "lz4";
-  else if (format == "mcap-none") options.compression = "";
-  else throw std::runtime_error("unknown format '" + format + "' (mcap-zstd, mcap-lz4, mcap-none, db3, ros1)");
+  if (format == "mcap-zstd")
+    options.compression = "zstd";
+  else if (format == "mcap-lz4")
+    options.compression = "lz4";
+  else if (format == "mcap-none")
+    options.compression = "";
+  else
+    throw std::runtime_error("unknown format '" + format + "' (mcap-zstd, mcap-lz4, mcap-none, db3, ros1)");
   testing_utils::WriteMcapBag((out / ("kitti_" + format + ".mcap")).string(), recording, options);
 }
 
@@ -133,7 +140,8 @@ int main(int argc, char** argv) {
   std::string kitti, out, formats = "mcap-zstd,mcap-lz4,mcap-none,db3,ros1";
   size_t frames = 1000000;
   app.add_option("KITTI_DIR", kitti, "KITTI raw drive folder (image_02, velodyne_points, calib_*)")
-      ->required()->check(CLI::ExistingDirectory);
+      ->required()
+      ->check(CLI::ExistingDirectory);
   app.add_option("OUT_DIR", out, "folder for the bags (created)")->required();
   app.add_option("--formats", formats, "comma-separated: mcap-zstd, mcap-lz4, mcap-none, db3, ros1");
   app.add_option("--frames", frames, "the first N frames only")->check(CLI::PositiveNumber);

@@ -41,11 +41,10 @@ motion_t CameraFrontendNode::Pair(int previous_id, const StationFeatures& previo
                                   const StationFeatures& current) {
   const RelativePoseResult result =
       EstimateRelativePose(previous.features, current.features, *current.camera, settings_.frontend);
-  motion_t motion = result.usable()
-                        ? MakeMotion(previous_id, station.id, "camera", result.A(), false, result.covariance,
-                                     station.utime)
-                        : MakeFailedMotion(previous_id, station.id, "camera", result.failure_reason.text,
-                                           station.utime);
+  motion_t motion =
+      result.usable()
+          ? MakeMotion(previous_id, station.id, "camera", result.A(), false, result.covariance, station.utime)
+          : MakeFailedMotion(previous_id, station.id, "camera", result.failure_reason.text, station.utime);
   motion.inliers = result.inliers;
   motion.rmse = result.median_epipolar_error_deg;
   motion.iterations = result.refinement_iterations;

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <opencv2/core/utility.hpp>
 
-#include "fusecal/motion_t.hpp"
-#include "runtime/channels.hpp"
 #include "formats/conversions.hpp"
 #include "formats/motion_message.hpp"
+#include "fusecal/motion_t.hpp"
+#include "runtime/channels.hpp"
 
 namespace fusecal {
 
@@ -59,7 +59,9 @@ void FusionOdometryNode::EvictStations() {
   const int dropped = retention_.Evict(&stations_);
   if (dropped == 0) return;
   stations_dropped_ += dropped;
-  const auto gone = [this](const PairKey& pair) { return !retention_.Keep(pair.first) || !retention_.Keep(pair.second); };
+  const auto gone = [this](const PairKey& pair) {
+    return !retention_.Keep(pair.first) || !retention_.Keep(pair.second);
+  };
   const auto erase_pairs = [&gone](auto* map) {
     for (auto it = map->begin(); it != map->end();) it = gone(it->first) ? map->erase(it) : std::next(it);
   };
@@ -73,8 +75,8 @@ motion_t FusionOdometryNode::ComputeMotion(int i, int j, const Isometry3& X, int
   const int64_t now = NowUtime();
   const auto si = stations_.find(i), sj = stations_.find(j);
   if (si == stations_.end() || sj == stations_.end())
-    return MakeFailedMotion(i, j, "camera", "station " + std::to_string(si == stations_.end() ? i : j) + " not received",
-                            now);
+    return MakeFailedMotion(i, j, "camera",
+                            "station " + std::to_string(si == stations_.end() ? i : j) + " not received", now);
   fusion_odometry::MotionGuess guess;
   const auto warm = last_camera_motions_.find({i, j});
   const auto lidar = lidar_motions_.find({i, j});
@@ -132,8 +134,8 @@ std::vector<motion_t> FusionOdometryNode::ComputeMotions(const extrinsic_t& extr
 #pragma omp parallel for schedule(dynamic, 1) if (n > 1)
   for (int c = 0; c < n; ++c) {
     const int k = to_compute[c];
-    motions[k] = ComputeMotion(extrinsic.used_station_i[k], extrinsic.used_station_j[k], X, extrinsic.version,
-                               &results[c]);
+    motions[k] =
+        ComputeMotion(extrinsic.used_station_i[k], extrinsic.used_station_j[k], X, extrinsic.version, &results[c]);
   }
   if (n > 1) cv::setNumThreads(opencv_threads);
   for (int c = 0; c < n; ++c) {
@@ -204,9 +206,13 @@ void FusionOdometryNode::Tick(Bus& bus, int64_t now_utime) {
 
 StageStatus FusionOdometryNode::Status() const {
   StageStatus s;
-  s.counters = {{"stations", double(stations_.size())}, {"motions", motions_}, {"failures", failures_},
-                {"repeats", repeats_},                  {"version", newest_answered_},
-                {"answered_without_inputs", answered_without_inputs_}, {"reused", double(reused_)},
+  s.counters = {{"stations", double(stations_.size())},
+                {"motions", motions_},
+                {"failures", failures_},
+                {"repeats", repeats_},
+                {"version", newest_answered_},
+                {"answered_without_inputs", answered_without_inputs_},
+                {"reused", double(reused_)},
                 {"stations_dropped", double(stations_dropped_)}};
   work_.AddTo(&s.counters);  // items: motions computed (one per pair and iteration)
   return s;

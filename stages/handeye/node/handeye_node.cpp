@@ -25,8 +25,7 @@ void ReadSharedErrors(ConfigReader r, SharedErrors* e) {
   r.Finish();
 }
 
-void SetPairs(const std::vector<StationPair>& pairs, int32_t* count, std::vector<int32_t>* i,
-              std::vector<int32_t>* j) {
+void SetPairs(const std::vector<StationPair>& pairs, int32_t* count, std::vector<int32_t>* i, std::vector<int32_t>* j) {
   i->clear();
   j->clear();
   for (const auto& [a, b] : pairs) {

@@ -7,8 +7,7 @@
 
 namespace fusecal {
 
-CalibrationResult ToCalibrationResult(const HandEyeResult& r,
-                                      const std::function<std::string(int, int)>& name_pair) {
+CalibrationResult ToCalibrationResult(const HandEyeResult& r, const std::function<std::string(int, int)>& name_pair) {
   CalibrationResult out;
   out.T_camera_lidar = r.T_camera_lidar;
   out.covariance = r.covariance;

@@ -42,11 +42,10 @@ PointCloud LidarIcpNode::Prepare(const station_t& station) {
 motion_t LidarIcpNode::Pair(int previous_id, const PointCloud& previous, const station_t& station,
                             const PointCloud& current) {
   const auto result = lidar_icp::Register(previous, current, settings_.registration);
-  motion_t motion = result.usable()
-                        ? MakeMotion(previous_id, station.id, "lidar", result.T_li_lj, true, result.covariance,
-                                     station.utime)
-                        : MakeFailedMotion(previous_id, station.id, "lidar", result.failure_reason.text,
-                                           station.utime);
+  motion_t motion =
+      result.usable()
+          ? MakeMotion(previous_id, station.id, "lidar", result.T_li_lj, true, result.covariance, station.utime)
+          : MakeFailedMotion(previous_id, station.id, "lidar", result.failure_reason.text, station.utime);
   motion.fitness = result.fitness;
   motion.rmse = result.inlier_rms_m;
   motion.iterations = result.iterations;

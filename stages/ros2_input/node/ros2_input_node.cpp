@@ -24,10 +24,14 @@ constexpr int64_t kCameraInfoRepeatUs = 1000000;
 
 const dds_topic_descriptor_t* DescriptorOf(Ros2SensorTopic kind) {
   switch (kind) {
-    case Ros2SensorTopic::kCameraInfo: return &sensor_msgs_msg_dds__CameraInfo__desc;
-    case Ros2SensorTopic::kImage: return &sensor_msgs_msg_dds__Image__desc;
-    case Ros2SensorTopic::kCompressedImage: return &sensor_msgs_msg_dds__CompressedImage__desc;
-    case Ros2SensorTopic::kCloud: return &sensor_msgs_msg_dds__PointCloud2__desc;
+    case Ros2SensorTopic::kCameraInfo:
+      return &sensor_msgs_msg_dds__CameraInfo__desc;
+    case Ros2SensorTopic::kImage:
+      return &sensor_msgs_msg_dds__Image__desc;
+    case Ros2SensorTopic::kCompressedImage:
+      return &sensor_msgs_msg_dds__CompressedImage__desc;
+    case Ros2SensorTopic::kCloud:
+      return &sensor_msgs_msg_dds__PointCloud2__desc;
   }
   return nullptr;
 }
@@ -45,8 +49,8 @@ Ros2InputNode::Ros2InputNode(const Ros2InputSettings& settings) : settings_(sett
   input_ = std::make_unique<Ros2SensorInput>(camera);
   participant_ = JoinRos2Domain(settings_.domain, ReceiveBufferBytes(settings_));
   discovery_ = std::make_unique<Ros2Discovery>(participant_);
-  readers_.push_back({settings_.compressed() ? Ros2SensorTopic::kCompressedImage : Ros2SensorTopic::kImage,
-                      settings_.image_topic});
+  readers_.push_back(
+      {settings_.compressed() ? Ros2SensorTopic::kCompressedImage : Ros2SensorTopic::kImage, settings_.image_topic});
   readers_.push_back({Ros2SensorTopic::kCloud, settings_.cloud_topic});
   if (settings_.camera_file.empty()) readers_.push_back({Ros2SensorTopic::kCameraInfo, settings_.CameraInfoTopic()});
   dds_qos_t* qos = dds_create_qos();
@@ -175,8 +179,9 @@ std::string Ros2InputNode::MissingTopicsMessage(const std::vector<const Reader*>
   for (const Ros2TopicSeen& t : discovery_->Publications())
     if (t.topic.rfind("/", 0) == 0) seen += (seen.empty() ? "" : ", ") + t.topic + " (" + t.type + ")";
   if (seen.empty())
-    return text + "; no ROS 2 publisher is seen on this domain: check ROS_DOMAIN_ID (ros2_input.domain), that the "
-                  "robot is on this network, and that multicast discovery reaches this host";
+    return text +
+           "; no ROS 2 publisher is seen on this domain: check ROS_DOMAIN_ID (ros2_input.domain), that the "
+           "robot is on this network, and that multicast discovery reaches this host";
   return text + "; the domain has: " + seen +
          ". Set ros2_input.image_topic, cloud_topic and camera_info_topic (or camera_file) to topics listed here";
 }
@@ -193,7 +198,9 @@ StageStatus Ros2InputNode::Status() const {
   work_.AddTo(&s.counters);
   for (const Reader& r : readers_) {
     const Ros2TopicCounts& c = input_->counts(r.kind);
-    const std::string key = r.kind == Ros2SensorTopic::kCloud ? "cloud" : r.kind == Ros2SensorTopic::kCameraInfo ? "camera_info" : "image";
+    const std::string key = r.kind == Ros2SensorTopic::kCloud        ? "cloud"
+                            : r.kind == Ros2SensorTopic::kCameraInfo ? "camera_info"
+                                                                     : "image";
     s.counters[key + "_received"] = static_cast<double>(c.received);
     s.counters[key + "_malformed"] = static_cast<double>(c.malformed);
     s.counters[key + "_lost"] = static_cast<double>(c.lost);

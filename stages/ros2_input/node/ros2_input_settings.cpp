@@ -23,8 +23,8 @@ std::string Ros2InputSettings::CameraInfoTopic() const {
 
 std::string Ros2InputSettings::Validate() const {
   if (domain < 0 || domain > 232) return "domain: must be in [0, 232]";
-  for (const auto& [key, topic] : {std::pair<const char*, const std::string*>{"image_topic", &image_topic},
-                                   {"cloud_topic", &cloud_topic}})
+  for (const auto& [key, topic] :
+       {std::pair<const char*, const std::string*>{"image_topic", &image_topic}, {"cloud_topic", &cloud_topic}})
     if (std::string problem = RosTopicProblem(key, *topic); !problem.empty()) return problem;
   if (!camera_info_topic.empty())
     if (std::string problem = RosTopicProblem("camera_info_topic", camera_info_topic); !problem.empty()) return problem;

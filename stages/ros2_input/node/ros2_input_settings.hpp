@@ -10,20 +10,20 @@
 namespace fusecal {
 
 struct Ros2InputSettings {
-  int domain = 0;                                  // ROS_DOMAIN_ID
-  std::string image_topic = "/camera/image_raw";   // sensor_msgs/Image; ".../compressed": CompressedImage
-  std::string cloud_topic = "/lidar/points";       // sensor_msgs/PointCloud2
-  std::string camera_info_topic;                   // empty: camera_info beside the image topic or above it
-  std::string camera_file;                         // a camera YAML used instead of CameraInfo (empty: none)
-  double topic_timeout_s = 15;                     // a topic silent this long from the start is an error
-  double max_message_mb = 10;                      // the largest message expected: the socket receive
-                                                   // buffer asked of the kernel holds 6 of them
-  int depth = 4;                                   // samples kept per topic between takes
+  int domain = 0;                                 // ROS_DOMAIN_ID
+  std::string image_topic = "/camera/image_raw";  // sensor_msgs/Image; ".../compressed": CompressedImage
+  std::string cloud_topic = "/lidar/points";      // sensor_msgs/PointCloud2
+  std::string camera_info_topic;                  // empty: camera_info beside the image topic or above it
+  std::string camera_file;                        // a camera YAML used instead of CameraInfo (empty: none)
+  double topic_timeout_s = 15;                    // a topic silent this long from the start is an error
+  double max_message_mb = 10;                     // the largest message expected: the socket receive
+                                                  // buffer asked of the kernel holds 6 of them
+  int depth = 4;                                  // samples kept per topic between takes
 
   // Empty when usable, else what is wrong.
   std::string Validate() const;
-  bool compressed() const;                         // the image topic carries CompressedImage
-  std::string CameraInfoTopic() const;             // camera_info_topic, or the one derived from the image topic
+  bool compressed() const;              // the image topic carries CompressedImage
+  std::string CameraInfoTopic() const;  // camera_info_topic, or the one derived from the image topic
 };
 
 Ros2InputSettings ReadRos2InputSettings(ConfigReader section);

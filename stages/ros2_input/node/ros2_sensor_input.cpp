@@ -16,10 +16,14 @@ constexpr size_t kStepsToLearn = 3;  // steps seen before gaps are judged
 
 const char* Ros2TypeOf(Ros2SensorTopic topic) {
   switch (topic) {
-    case Ros2SensorTopic::kCameraInfo: return "sensor_msgs/msg/CameraInfo";
-    case Ros2SensorTopic::kImage: return "sensor_msgs/msg/Image";
-    case Ros2SensorTopic::kCompressedImage: return "sensor_msgs/msg/CompressedImage";
-    case Ros2SensorTopic::kCloud: return "sensor_msgs/msg/PointCloud2";
+    case Ros2SensorTopic::kCameraInfo:
+      return "sensor_msgs/msg/CameraInfo";
+    case Ros2SensorTopic::kImage:
+      return "sensor_msgs/msg/Image";
+    case Ros2SensorTopic::kCompressedImage:
+      return "sensor_msgs/msg/CompressedImage";
+    case Ros2SensorTopic::kCloud:
+      return "sensor_msgs/msg/PointCloud2";
   }
   return "";
 }
@@ -68,7 +72,8 @@ Ros2InputFrame Ros2SensorInput::Take(Ros2SensorTopic topic, const uint8_t* data,
   return frame;
 }
 
-Ros2InputFrame Ros2SensorInput::Convert(Ros2SensorTopic topic, const uint8_t* data, size_t size, int64_t receive_utime) {
+Ros2InputFrame Ros2SensorInput::Convert(Ros2SensorTopic topic, const uint8_t* data, size_t size,
+                                        int64_t receive_utime) {
   Ros2InputFrame frame;
   switch (topic) {
     case Ros2SensorTopic::kCameraInfo: {

@@ -47,7 +47,7 @@ struct Ros2InputFrame {
   std::optional<CameraParams> camera;  // a camera model, new or changed
   std::optional<SensorImage> image;
   std::optional<SensorScan> scan;
-  std::string error;                   // set when the message was skipped
+  std::string error;  // set when the message was skipped
 };
 
 class Ros2SensorInput {

@@ -8,9 +8,9 @@
 #include "formats/conversions.hpp"
 #include "formats/ros2_names.hpp"
 #include "formats/ros_sensor_encode.hpp"
-#include "ros2_tf/node/ros2_views.hpp"
 #include "ros2_dds/ros2_domain.hpp"
 #include "ros2_messages.h"
+#include "ros2_tf/node/ros2_views.hpp"
 #include "runtime/channels.hpp"
 
 namespace fusecal {
@@ -39,7 +39,8 @@ int Ros2TfNode::MakeWriter(const std::string& dds_topic, const void* descriptor,
   dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
   const dds_entity_t writer = dds_create_writer(participant_, topic, qos, nullptr);
   dds_delete_qos(qos);
-  if (writer < 0) throw std::runtime_error("ros2_tf: cannot create the " + dds_topic + " writer: " + DdsErrorText(writer));
+  if (writer < 0)
+    throw std::runtime_error("ros2_tf: cannot create the " + dds_topic + " writer: " + DdsErrorText(writer));
   return writer;
 }
 
@@ -140,8 +141,11 @@ void Ros2TfNode::PublishDiagnostics() {
 StageStatus Ros2TfNode::Status() const {
   StageStatus s;
   s.state = published_ ? "publishing rt/tf_static" : "waiting for EXTRINSIC";
-  s.counters = {{"published", published_}, {"version", last_version_}, {"domain", settings_.domain},
-                {"overlays", overlays_}, {"diagnostics", diagnostics_}};
+  s.counters = {{"published", published_},
+                {"version", last_version_},
+                {"domain", settings_.domain},
+                {"overlays", overlays_},
+                {"diagnostics", diagnostics_}};
   return s;
 }
 

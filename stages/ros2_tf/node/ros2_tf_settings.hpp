@@ -8,8 +8,8 @@
 namespace fusecal {
 
 struct Ros2TfSettings {
-  bool enabled = false;  // `fusecal run` starts fusecal-ros2-tf with the stages
-  int domain = 0;                     // the ROS 2 domain (ROS_DOMAIN_ID)
+  bool enabled = false;                 // `fusecal run` starts fusecal-ros2-tf with the stages
+  int domain = 0;                       // the ROS 2 domain (ROS_DOMAIN_ID)
   std::string parent_frame = "camera";  // header.frame_id: T_camera_lidar maps the child into it
   std::string child_frame = "lidar";    // child_frame_id
   // The latest station's image with the LiDAR points drawn through the current extrinsic, as a

@@ -42,8 +42,8 @@ cv::Mat DrawPointsOnImage(const cv::Mat& image, const PointCloud& cloud, const C
     cv::Mat hsv(1, 1, CV_8UC3, cv::Scalar(120 * f, 255, 255)), bgr;
     cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
     const cv::Vec3b c = bgr.at<cv::Vec3b>(0, 0);
-    cv::circle(out, cv::Point(static_cast<int>(pixel.x()), static_cast<int>(pixel.y())), radius, cv::Scalar(c[0], c[1], c[2]),
-               cv::FILLED);
+    cv::circle(out, cv::Point(static_cast<int>(pixel.x()), static_cast<int>(pixel.y())), radius,
+               cv::Scalar(c[0], c[1], c[2]), cv::FILLED);
   }
   return out;
 }
@@ -51,11 +51,16 @@ cv::Mat DrawPointsOnImage(const cv::Mat& image, const PointCloud& cloud, const C
 DiagnosticReport DescribeExtrinsic(const extrinsic_t& e) {
   DiagnosticReport report;
   switch (e.status) {
-    case extrinsic_t::STATUS_CONVERGED: report.level = 0; break;
+    case extrinsic_t::STATUS_CONVERGED:
+      report.level = 0;
+      break;
     case extrinsic_t::STATUS_INITIAL:
     case extrinsic_t::STATUS_REFINING:
-    case extrinsic_t::STATUS_NOT_CONVERGED: report.level = 1; break;
-    default: report.level = 2;
+    case extrinsic_t::STATUS_NOT_CONVERGED:
+      report.level = 1;
+      break;
+    default:
+      report.level = 2;
   }
   report.message = std::string(ExtrinsicStatusName(e.status)) + " (" + ObservabilityName(e.observability) + ")";
   if (!e.message.empty()) report.message += ": " + e.message;
@@ -85,9 +90,10 @@ DiagnosticReport DescribeExtrinsic(const extrinsic_t& e) {
     report.values.push_back({"before_rpy_deg", Vector(RpyFromRotation(before.linear()) * 180.0 / M_PI, 3)});
   }
   if (e.observability != extrinsic_t::OBSERVABILITY_OK)
-    report.values.push_back({"unobservable_direction_camera",
-                             Vector(Eigen::Vector3d(e.unobservable_direction[0], e.unobservable_direction[1],
-                                                    e.unobservable_direction[2]), 4)});
+    report.values.push_back(
+        {"unobservable_direction_camera",
+         Vector(Eigen::Vector3d(e.unobservable_direction[0], e.unobservable_direction[1], e.unobservable_direction[2]),
+                4)});
   return report;
 }
 

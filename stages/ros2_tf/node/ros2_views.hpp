@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "foundation/camera_model.hpp"
-#include "foundation/se3.hpp"
 #include "foundation/point_cloud.hpp"
+#include "foundation/se3.hpp"
 #include "fusecal/extrinsic_t.hpp"
 
 namespace fusecal {

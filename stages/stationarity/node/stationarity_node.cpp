@@ -10,8 +10,7 @@ namespace fusecal {
 
 std::string StationarityNodeSettings::Validate() const {
   if (raw_queue_depth < 1 || raw_queue_depth > 1000) return "raw_queue_depth: must be in [1, 1000]";
-  if (!(std::isfinite(max_image_rate_hz) && max_image_rate_hz >= 0))
-    return "max_image_rate_hz: must not be negative";
+  if (!(std::isfinite(max_image_rate_hz) && max_image_rate_hz >= 0)) return "max_image_rate_hz: must not be negative";
   return detector.Validate();
 }
 
@@ -26,8 +25,7 @@ StationarityNodeSettings ReadStationarityNodeSettings(ConfigReader r) {
   r.Get("raw_queue_depth", &s.raw_queue_depth);
   r.Get("max_image_rate_hz", &s.max_image_rate_hz);
   r.Finish();
-  r.FailIfInvalid(s.Validate(),
-                  {{"still_flow_px", "image.still_flow_px"}, {"still_change_m", "lidar.still_change_m"}});
+  r.FailIfInvalid(s.Validate(), {{"still_flow_px", "image.still_flow_px"}, {"still_change_m", "lidar.still_change_m"}});
   return s;
 }
 
@@ -44,7 +42,8 @@ void StationarityNode::Queue(bool image, const RawMessage& raw) {
   if (image && min_image_interval_us_ > 0) {
     const int64_t utime = PeekUtime(raw.data, raw.size);
     // (A clock that went back starts over rather than stalling the camera.)
-    if (last_image_utime_ >= 0 && utime >= last_image_utime_ && utime - last_image_utime_ < min_image_interval_us_ - 1000) {
+    if (last_image_utime_ >= 0 && utime >= last_image_utime_ &&
+        utime - last_image_utime_ < min_image_interval_us_ - 1000) {
       ++images_decimated_;
       return;
     }

@@ -42,7 +42,8 @@ class StationarityNode : public StageNode {
   explicit StationarityNode(const StationarityNodeSettings& settings)
       : detector_(settings.detector),
         raw_queue_depth_(settings.raw_queue_depth),
-        min_image_interval_us_(settings.max_image_rate_hz > 0 ? static_cast<int64_t>(1e6 / settings.max_image_rate_hz) : 0) {}
+        min_image_interval_us_(settings.max_image_rate_hz > 0 ? static_cast<int64_t>(1e6 / settings.max_image_rate_hz)
+                                                              : 0) {}
   void Start(Bus& bus) override;
   // Takes the queued frames (oldest first) and publishes the stations they complete.
   void Tick(Bus& bus, int64_t now_utime) override;

@@ -3,9 +3,9 @@
 // rt/tf_static (Cyclone DDS) reaches a late-joining Fast DDS reader with the extrinsic's values.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <signal.h>
 #include <sys/wait.h>
+#include <algorithm>
 
 #include <Eigen/Geometry>
 #include <chrono>
@@ -63,8 +63,8 @@ class FastDdsPeer : public ::testing::Test {
   // Plays the recording into a counting peer on `domain`; returns what the counter printed.
   static nlohmann::json PlayAndCount(int domain, const std::string& play_flags, const std::string& count_flags) {
     const std::string counted = Dir() + "/count_" + std::to_string(domain) + ".json";
-    const pid_t counter = StartInBackground(kPeer + " count --domain " + std::to_string(domain) +
-                                                " --seconds 40 --idle 3 " + count_flags, counted);
+    const pid_t counter = StartInBackground(
+        kPeer + " count --domain " + std::to_string(domain) + " --seconds 40 --idle 3 " + count_flags, counted);
     EXPECT_GT(counter, 0);
     const auto played = RunCommand(kPeer + " play " + log_ + " --domain " + std::to_string(domain) + " --speed 5 " +
                                    play_flags + " 2>&1");
@@ -107,9 +107,8 @@ TEST_F(FastDdsPeer, PlaysALogAndCountsItBack) {
 
 TEST_F(FastDdsPeer, PlaysCompressedImagesWithTheSensorDataQos) {
   ASSERT_NO_FATAL_FAILURE(Simulate());
-  const nlohmann::json received =
-      PlayAndCount(62, "--compressed --best-effort",
-                   "--best-effort /camera/camera_info /camera/image_raw/compressed /lidar/points");
+  const nlohmann::json received = PlayAndCount(
+      62, "--compressed --best-effort", "--best-effort /camera/camera_info /camera/image_raw/compressed /lidar/points");
   ASSERT_TRUE(received.contains("received")) << received;
   // Best effort may drop a sample when the machine is busy (the suite runs tests side by side); the reliable
   // test above counts exactly. Here the types and the sensor-data QoS must match: nearly all arrive.

@@ -26,10 +26,11 @@ int TfListen(int domain_id, double timeout_s, int count) {
       for (const auto& t : message.transforms_()) {
         const auto& p = t.transform_().translation_();
         const auto& q = t.transform_().rotation_();
-        std::printf("{\"parent\":\"%s\",\"child\":\"%s\",\"stamp\":[%d,%u],\"t\":[%.17g,%.17g,%.17g],"
-                    "\"q\":[%.17g,%.17g,%.17g,%.17g]}\n",
-                    t.header_().frame_id_().c_str(), t.child_frame_id_().c_str(), t.header_().stamp_().sec_(),
-                    t.header_().stamp_().nanosec_(), p.x_(), p.y_(), p.z_(), q.x_(), q.y_(), q.z_(), q.w_());
+        std::printf(
+            "{\"parent\":\"%s\",\"child\":\"%s\",\"stamp\":[%d,%u],\"t\":[%.17g,%.17g,%.17g],"
+            "\"q\":[%.17g,%.17g,%.17g,%.17g]}\n",
+            t.header_().frame_id_().c_str(), t.child_frame_id_().c_str(), t.header_().stamp_().sec_(),
+            t.header_().stamp_().nanosec_(), p.x_(), p.y_(), p.z_(), q.x_(), q.y_(), q.z_(), q.w_());
         ++printed;
       }
     }

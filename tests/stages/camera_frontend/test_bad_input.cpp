@@ -4,8 +4,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "camera_frontend/relative_pose.hpp"
-#include "support/synthetic_room.hpp"
 #include "support/camera_frontend_helpers.hpp"
+#include "support/synthetic_room.hpp"
 
 namespace fusecal::test {
 namespace {
@@ -19,9 +19,8 @@ struct Fixture {
   std::unique_ptr<CameraModel> camera = MakeCameraModel(DistortedPinholeParams());
   cv::Mat textured;  // a valid image of the camera's size
   Fixture() {
-    const Isometry3 pose =
-        MakeIsometry(Eigen::AngleAxisd(Rad(40), Eigen::Vector3d::UnitY()).toRotationMatrix(),
-                     Eigen::Vector3d(1.2, -0.3, 2.0));
+    const Isometry3 pose = MakeIsometry(Eigen::AngleAxisd(Rad(40), Eigen::Vector3d::UnitY()).toRotationMatrix(),
+                                        Eigen::Vector3d(1.2, -0.3, 2.0));
     textured = Room().Render(*camera, pose, 1, 1.5, 3);
   }
 };
@@ -37,9 +36,7 @@ RelativePoseResult Estimate(const cv::Mat& a, const cv::Mat& b, const CameraFron
   return r;
 }
 
-bool Contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 TEST(CameraFrontendBadInput, EmptyImage) {
   const RelativePoseResult r = Estimate(cv::Mat(), Data().textured);

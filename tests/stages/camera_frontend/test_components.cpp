@@ -39,8 +39,7 @@ TEST(CameraFrontendSettings, BadFieldsAreNamed) {
   EXPECT_EQ(message([](auto& s) { s.features.max_features = 0; }).rfind("features.max_features", 0), 0u);
   EXPECT_EQ(message([](auto& s) { s.features.blank_value = 300; }).rfind("features.blank_value", 0), 0u);
   EXPECT_EQ(message([](auto& s) { s.matching.ratio = 1.5; }).rfind("matching.ratio", 0), 0u);
-  EXPECT_EQ(message([](auto& s) { s.refinement.loss_scale_px = -1; }).rfind("refinement.loss_scale_px", 0),
-            0u);
+  EXPECT_EQ(message([](auto& s) { s.refinement.loss_scale_px = -1; }).rfind("refinement.loss_scale_px", 0), 0u);
   EXPECT_EQ(message([](auto& s) { s.min_inliers = 3; }).rfind("min_inliers", 0), 0u);
   EXPECT_EQ(message([](auto& s) { s.max_translation_std_deg = 0; }).rfind("max_translation_std_deg", 0), 0u);
 }
@@ -149,9 +148,8 @@ Eigen::Vector3d Perturb(const Eigen::Vector3d& f, double sigma, std::mt19937& rn
 // Points seen by camera j within +-half_width (x) and +-half_height (y) radians of its axis, 2 to 10 m away.
 Scene MakeScene(int points, double noise_rad, double outlier_fraction, unsigned seed, double half_width = 0.6,
                 double half_height = 0.4,
-                const Eigen::Matrix3d& R = Eigen::AngleAxisd(Rad(40),
-                                                             Eigen::Vector3d(0.3, 1, -0.2).normalized())
-                                               .toRotationMatrix()) {
+                const Eigen::Matrix3d& R =
+                    Eigen::AngleAxisd(Rad(40), Eigen::Vector3d(0.3, 1, -0.2).normalized()).toRotationMatrix()) {
   Scene s;
   s.R = R;
   s.t = Eigen::Vector3d(0.4, -0.1, 0.3);
@@ -159,8 +157,7 @@ Scene MakeScene(int points, double noise_rad, double outlier_fraction, unsigned 
   std::uniform_real_distribution<double> u(-1, 1), depth(2, 10), unit(0, 1);
   for (int k = 0; k < points; ++k) {
     const Eigen::Vector3d p_j =
-        Eigen::Vector3d(std::tan(half_width * u(rng)), std::tan(half_height * u(rng)), 1).normalized() *
-        depth(rng);
+        Eigen::Vector3d(std::tan(half_width * u(rng)), std::tan(half_height * u(rng)), 1).normalized() * depth(rng);
     Eigen::Vector3d f_i = (s.R * p_j + s.t).normalized();
     const bool outlier = unit(rng) < outlier_fraction;
     if (outlier) f_i = Eigen::Vector3d(u(rng), u(rng), 1).normalized();
@@ -179,8 +176,7 @@ std::vector<int> All(const Scene& s) {
 
 TEST(CameraFrontendGeometry, EpipolarAngleMeasuresDistanceToPlane) {
   const Scene s = MakeScene(20, 0.0, 0.0, 1);
-  for (size_t k = 0; k < s.f_i.size(); ++k)
-    EXPECT_NEAR(EpipolarAngle(s.R, s.t, s.f_i[k], s.f_j[k]), 0.0, 1e-12);
+  for (size_t k = 0; k < s.f_i.size(); ++k) EXPECT_NEAR(EpipolarAngle(s.R, s.t, s.f_i[k], s.f_j[k]), 0.0, 1e-12);
   // Tilt f_i out of its epipolar plane by a known angle: about an axis inside the plane.
   const Eigen::Vector3d n = s.t.cross(s.R * s.f_j[0]).normalized();
   const Eigen::Vector3d axis = n.cross(s.f_i[0]).normalized();  // in the plane, orthogonal to f_i
@@ -281,12 +277,9 @@ TEST(CameraFrontendRefinement, CovarianceMatchesScatter) {
     const Eigen::MatrixXd W = eig.operatorInverseSqrt();
     return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(W * C_emp * W).eigenvalues().eval();
   };
-  const Eigen::VectorXd rotation =
-      whitened_eigenvalues(predicted.block<3, 3>(0, 0), scatter.block<3, 3>(0, 0));
+  const Eigen::VectorXd rotation = whitened_eigenvalues(predicted.block<3, 3>(0, 0), scatter.block<3, 3>(0, 0));
   std::cout << "predicted rotation covariance eigenvalues (deg^2): "
-            << Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(predicted.block<3, 3>(0, 0))
-                       .eigenvalues()
-                       .transpose() *
+            << Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(predicted.block<3, 3>(0, 0)).eigenvalues().transpose() *
                    std::pow(180 / M_PI, 2)
             << "; whitened scatter: rotation " << rotation.transpose();
   EXPECT_GT(rotation.minCoeff(), 0.5) << rotation.transpose();
@@ -310,8 +303,7 @@ TEST(CameraFrontendRefinement, CovarianceMatchesScatter) {
 }
 
 TEST(CameraFrontendRotationOnly, FitsPureRotation) {
-  const Eigen::Matrix3d R =
-      Eigen::AngleAxisd(Rad(30), Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(Rad(30), Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1, 1);
   Bearings f_i, f_j;
@@ -340,10 +332,8 @@ TEST(CameraFrontendFeatures, CheckImageExplainsProblems) {
   EXPECT_EQ(CheckImage(cv::Mat(480, 640, CV_8UC3), *camera), "");
   EXPECT_NE(CheckImage(cv::Mat(), *camera).find("empty"), std::string::npos);
   EXPECT_NE(CheckImage(cv::Mat(480, 641, CV_8UC1), *camera).find("expects 640x480"), std::string::npos);
-  EXPECT_NE(CheckImage(cv::Mat(480, 640, CV_32FC1), *camera).find("unsupported image type"),
-            std::string::npos);
-  EXPECT_NE(CheckImage(cv::Mat(480, 640, CV_8UC2), *camera).find("unsupported image type"),
-            std::string::npos);
+  EXPECT_NE(CheckImage(cv::Mat(480, 640, CV_32FC1), *camera).find("unsupported image type"), std::string::npos);
+  EXPECT_NE(CheckImage(cv::Mat(480, 640, CV_8UC2), *camera).find("unsupported image type"), std::string::npos);
 }
 
 }  // namespace

@@ -59,8 +59,7 @@ TEST_P(KittiMovingPairs, ForwardMotionSmallRotation) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Frames, KittiMovingPairs,
-                         ::testing::Values(std::make_pair(0, 4), std::make_pair(10, 14),
-                                           std::make_pair(20, 24)));
+                         ::testing::Values(std::make_pair(0, 4), std::make_pair(10, 14), std::make_pair(20, 24)));
 
 // Motions compose: R_04 = R_02 R_24, and the car goes straight, so t_02, t_24 and t_04 point the same way.
 TEST(KittiPairs, MotionsCompose) {

@@ -9,8 +9,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "camera_frontend/relative_pose.hpp"
-#include "support/synthetic_room.hpp"
 #include "support/camera_frontend_helpers.hpp"
+#include "support/synthetic_room.hpp"
 
 namespace fusecal::test {
 namespace {
@@ -28,9 +28,7 @@ Eigen::Matrix3d AxisAngle(double deg, const Eigen::Vector3d& axis) {
 }
 
 // Station i of the panorama tests: off-centre, slightly tilted.
-Isometry3 PanoramaStation() {
-  return MakeIsometry(AxisAngle(10, {0.1, 1, 0.2}), Eigen::Vector3d(0.2, -0.1, 0.3));
-}
+Isometry3 PanoramaStation() { return MakeIsometry(AxisAngle(10, {0.1, 1, 0.2}), Eigen::Vector3d(0.2, -0.1, 0.3)); }
 
 // Station i of the pinhole tests: about 2 m from the corner of the +x and +z walls, looking at it and
 // slightly down, so that three planes are in view.
@@ -60,11 +58,10 @@ PairOutcome RunPair(const std::string& name, const CameraParams& params, const I
   std::cout << "[" << name << "] " << params.model << " " << params.width << "x" << params.height
             << ": |t| = " << A_true.translation().norm() * 100 << " cm, rotation "
             << Deg(RotationAngle(A_true.linear())) << " deg -> rotation error " << out.errors.rotation_deg
-            << " deg, translation direction error " << out.errors.translation_direction_deg << " deg; "
-            << r.inliers << " inliers of " << r.matches << " matches, parallax " << r.median_parallax_deg
-            << " deg, epipolar error " << r.median_epipolar_error_deg << " deg, "
-            << (r.translation_unreliable ? "translation UNRELIABLE, " : "") << r.seconds << " s"
-            << (r.failure_reason.text.empty() ? "" : " (" + r.failure_reason.text + ")") << "\n";
+            << " deg, translation direction error " << out.errors.translation_direction_deg << " deg; " << r.inliers
+            << " inliers of " << r.matches << " matches, parallax " << r.median_parallax_deg << " deg, epipolar error "
+            << r.median_epipolar_error_deg << " deg, " << (r.translation_unreliable ? "translation UNRELIABLE, " : "")
+            << r.seconds << " s" << (r.failure_reason.text.empty() ? "" : " (" + r.failure_reason.text + ")") << "\n";
   return out;
 }
 
@@ -143,9 +140,8 @@ TEST(CameraFrontendSynthetic, PanoramaWithBlankAreaIgnoresIt) {
   image_j.rowRange(blank_from, 512).setTo(0);
   const RelativePoseResult r = EstimateRelativePose(image_i, image_j, *camera);
   const PoseErrors e = Errors(r, A);
-  std::cout << "[panorama blank area] rotation error " << e.rotation_deg
-            << " deg, translation direction error " << e.translation_direction_deg << " deg, " << r.inliers
-            << " inliers\n";
+  std::cout << "[panorama blank area] rotation error " << e.rotation_deg << " deg, translation direction error "
+            << e.translation_direction_deg << " deg, " << r.inliers << " inliers\n";
   EXPECT_TRUE(r.usable()) << r.failure_reason;
   EXPECT_LE(e.rotation_deg, kMaxRotationErrorDeg);
   EXPECT_LE(e.translation_direction_deg, kMaxTranslationErrorDeg);
@@ -185,8 +181,7 @@ TEST(CameraFrontendSynthetic, ReversedPairGivesInverseMotion) {
   ASSERT_TRUE(forward.usable()) << forward.failure_reason;
   ASSERT_TRUE(backward.usable()) << backward.failure_reason;
   EXPECT_LE(RotationErrorDeg(backward.R, forward.R.transpose()), kMaxRotationErrorDeg);
-  EXPECT_LE(DirectionErrorDeg(backward.t_unit, -forward.R.transpose() * forward.t_unit),
-            kMaxTranslationErrorDeg);
+  EXPECT_LE(DirectionErrorDeg(backward.t_unit, -forward.R.transpose() * forward.t_unit), kMaxTranslationErrorDeg);
   EXPECT_LE(Errors(backward, A.inverse()).translation_direction_deg, kMaxTranslationErrorDeg);
 }
 

@@ -132,8 +132,8 @@ TEST(MatrixConversion, Matrix6RoundTrip) {
 }
 
 TEST(ExtrinsicStatus, VerdictsConvertToTheConstantsAndBackWithTheSameNames) {
-  for (HandEyeStatus status : {HandEyeStatus::kConverged, HandEyeStatus::kNotConverged, HandEyeStatus::kDegenerate,
-                               HandEyeStatus::kFailed}) {
+  for (HandEyeStatus status :
+       {HandEyeStatus::kConverged, HandEyeStatus::kNotConverged, HandEyeStatus::kDegenerate, HandEyeStatus::kFailed}) {
     const int8_t constant = ToExtrinsicStatus(status);
     EXPECT_EQ(HandEyeStatusOf(constant), status);
     EXPECT_STREQ(ExtrinsicStatusName(constant), Name(status));

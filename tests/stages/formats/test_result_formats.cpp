@@ -5,12 +5,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "support/process_utils.hpp"
 #include "formats/extrinsic_formats.hpp"
 #include "formats/ground_truth.hpp"
 #include "formats/result_file.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
+#include "support/process_utils.hpp"
 
 namespace fusecal {
 namespace {
@@ -101,10 +101,8 @@ TEST(Commands, EvaluateAndExport) {
   std::ifstream in(out);
   const std::string text((std::istreambuf_iterator<char>(in)), {});
   EXPECT_NE(text.find("camera lidar"), std::string::npos);
-  EXPECT_EQ(RunCommand(std::string(FUSECAL_BIN) + " export " + result + " --format urdf 2>&1").exit_code == 0,
-            false);
-  EXPECT_EQ(RunCommand(std::string(FUSECAL_BIN) + " evaluate --result /nonexistent.yaml --truth " + truth +
-                       " 2>&1")
+  EXPECT_EQ(RunCommand(std::string(FUSECAL_BIN) + " export " + result + " --format urdf 2>&1").exit_code == 0, false);
+  EXPECT_EQ(RunCommand(std::string(FUSECAL_BIN) + " evaluate --result /nonexistent.yaml --truth " + truth + " 2>&1")
                 .exit_code,
             1);
 }
@@ -158,10 +156,10 @@ TEST(Commands, EvaluateAgainstTheExtrinsicInForceAtTheLogsEndOrAtAGivenTime) {
   // A result file as the truth has no time: no truth_from_utime, and --at-utime is refused.
   const auto from_yaml = Evaluate("--result " + result + " --truth " + result);
   EXPECT_FALSE(from_yaml.contains("truth_from_utime"));
-  EXPECT_NE(Evaluate("--result " + result + " --truth " + result + " --at-utime 5000", 1)["output"]
-                .get<std::string>()
-                .find("needs a log"),
-            std::string::npos);
+  EXPECT_NE(
+      Evaluate("--result " + result + " --truth " + result + " --at-utime 5000", 1)["output"].get<std::string>().find(
+          "needs a log"),
+      std::string::npos);
 
   // The helpers behind it.
   const auto truths = ReadGroundTruths(log);

@@ -30,8 +30,10 @@ RosPointCloud2 SampleCloud() {
   msg.header = Header("velodyne");
   msg.height = 1;
   msg.width = 2;
-  msg.fields = {{"x", 0, RosPointField::FLOAT32, 1}, {"y", 4, RosPointField::FLOAT32, 1},
-                {"z", 8, RosPointField::FLOAT32, 1}, {"intensity", 12, RosPointField::UINT8, 1}};
+  msg.fields = {{"x", 0, RosPointField::FLOAT32, 1},
+                {"y", 4, RosPointField::FLOAT32, 1},
+                {"z", 8, RosPointField::FLOAT32, 1},
+                {"intensity", 12, RosPointField::UINT8, 1}};
   msg.is_bigendian = false;
   msg.point_step = 13;
   msg.row_step = 26;
@@ -178,28 +180,27 @@ TEST(RosCdr, BytesAfterTheMessageAreIgnored) {
 // A 2 x 1 mono8 Image, little-endian, laid out by hand. Offsets count from the end of the 4-byte
 // encapsulation header; each field is aligned to its size from there.
 const Bytes kGoldenImageLittle = {
-    0x00, 0x01, 0x00, 0x00,  // encapsulation: CDR_LE, options 0
-    0x01, 0x00, 0x00, 0x00,  //  0: header.stamp.sec = 1 (int32)
-    0x02, 0x00, 0x00, 0x00,  //  4: header.stamp.nanosec = 2
-    0x04, 0x00, 0x00, 0x00,  //  8: header.frame_id length 4 (with the NUL)
-    'c',  'a',  'm',  0x00,  // 12: "cam\0"
-    0x01, 0x00, 0x00, 0x00,  // 16: height = 1
-    0x02, 0x00, 0x00, 0x00,  // 20: width = 2
-    0x06, 0x00, 0x00, 0x00,  // 24: encoding length 6
+    0x00, 0x01, 0x00, 0x00,             // encapsulation: CDR_LE, options 0
+    0x01, 0x00, 0x00, 0x00,             //  0: header.stamp.sec = 1 (int32)
+    0x02, 0x00, 0x00, 0x00,             //  4: header.stamp.nanosec = 2
+    0x04, 0x00, 0x00, 0x00,             //  8: header.frame_id length 4 (with the NUL)
+    'c',  'a',  'm',  0x00,             // 12: "cam\0"
+    0x01, 0x00, 0x00, 0x00,             // 16: height = 1
+    0x02, 0x00, 0x00, 0x00,             // 20: width = 2
+    0x06, 0x00, 0x00, 0x00,             // 24: encoding length 6
     'm',  'o',  'n',  'o',  '8', 0x00,  // 28: "mono8\0"
-    0x00,                    // 34: is_bigendian = 0 (uint8)
-    0x00,                    // 35: padding: step is a uint32, at 36
-    0x02, 0x00, 0x00, 0x00,  // 36: step = 2
-    0x02, 0x00, 0x00, 0x00,  // 40: data count 2
-    0x07, 0x09,              // 44: data
+    0x00,                               // 34: is_bigendian = 0 (uint8)
+    0x00,                               // 35: padding: step is a uint32, at 36
+    0x02, 0x00, 0x00, 0x00,             // 36: step = 2
+    0x02, 0x00, 0x00, 0x00,             // 40: data count 2
+    0x07, 0x09,                         // 44: data
 };
 
 // The same Image big-endian: the integers' bytes turn round, nothing moves.
 const Bytes kGoldenImageBig = {
-    0x00, 0x00, 0x00, 0x00,  0x00, 0x00, 0x00, 0x01,  0x00, 0x00, 0x00, 0x02,  0x00, 0x00, 0x00, 0x04,
-    'c',  'a',  'm',  0x00,  0x00, 0x00, 0x00, 0x01,  0x00, 0x00, 0x00, 0x02,  0x00, 0x00, 0x00, 0x06,
-    'm',  'o',  'n',  'o',   '8',  0x00, 0x00, 0x00,  0x00, 0x00, 0x00, 0x02,  0x00, 0x00, 0x00, 0x02,
-    0x07, 0x09,
+    0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x04, 'c',
+    'a',  'm',  0x00, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x06, 'm',  'o',
+    'n',  'o',  '8',  0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x02, 0x07, 0x09,
 };
 
 RosImage GoldenImage() {
@@ -252,26 +253,26 @@ TEST(RosCdr, AGoldenCameraInfoAlignsItsDoublesFromTheEndOfTheEncapsulationHeader
   expected.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
   for (int i = 0; i < 12; ++i) expected.P[i] = 0.25 * i;
   HandLayout in;
-  in.U32(3);                       //  0: header.stamp.sec
-  in.U32(4);                       //  4: header.stamp.nanosec
-  in.U32(1);                       //  8: header.frame_id length 1: ""
-  in.Raw({0x00});                  // 12: its NUL
-  in.Pad(3);                       // 13: height is a uint32, at 16
-  in.U32(2);                       // 16: height
-  in.U32(3);                       // 20: width
-  in.U32(10);                      // 24: distortion_model length 10
+  in.U32(3);                                                    //  0: header.stamp.sec
+  in.U32(4);                                                    //  4: header.stamp.nanosec
+  in.U32(1);                                                    //  8: header.frame_id length 1: ""
+  in.Raw({0x00});                                               // 12: its NUL
+  in.Pad(3);                                                    // 13: height is a uint32, at 16
+  in.U32(2);                                                    // 16: height
+  in.U32(3);                                                    // 20: width
+  in.U32(10);                                                   // 24: distortion_model length 10
   in.Raw({'p', 'l', 'u', 'm', 'b', '_', 'b', 'o', 'b', 0x00});  // 28
-  in.Pad(2);                       // 38: the count of d is a uint32, at 40
-  in.U32(1);                       // 40: d count 1
-  in.Pad(4);                       // 44: d[0] is a float64, at 48 (52 from the buffer's start)
-  in.F64(0.5);                     // 48: d[0]
+  in.Pad(2);                                                    // 38: the count of d is a uint32, at 40
+  in.U32(1);                                                    // 40: d count 1
+  in.Pad(4);                              // 44: d[0] is a float64, at 48 (52 from the buffer's start)
+  in.F64(0.5);                            // 48: d[0]
   for (double k : expected.K) in.F64(k);  // 56: k
   for (double r : expected.R) in.F64(r);  // 128: r
   for (double p : expected.P) in.F64(p);  // 200: p
-  in.U32(0);                       // 296: binning_x
-  in.U32(0);                       // 300: binning_y
+  in.U32(0);                              // 296: binning_x
+  in.U32(0);                              // 300: binning_y
   for (int i = 0; i < 4; ++i) in.U32(0);  // 304: roi x_offset, y_offset, height, width
-  in.Raw({0x00});                  // 320: roi.do_rectify
+  in.Raw({0x00});                         // 320: roi.do_rectify
   ASSERT_EQ(in.bytes.size(), 4u + 321u);
   ExpectSame(DecodeCdrCameraInfo(in.bytes.data(), in.bytes.size()), expected);
   EXPECT_EQ(EncodeCdr(expected), in.bytes);
@@ -303,7 +304,8 @@ TEST(RosCdr, AMessageCutShortAnywhereIsRefusedNamingTheField) {
   ExpectEveryTruncationRefused(SampleCameraInfo(), DecodeCdrCameraInfo, "sensor_msgs/msg/CameraInfo");
   // Offsets count from the start of the bytes: step (body offset 36) is at 40.
   const std::string error = ErrorOf([] { DecodeCdrImage(kGoldenImageLittle.data(), 41); });
-  EXPECT_EQ(error, "sensor_msgs/msg/Image: field 'step' (4 bytes) runs past the end of the 41-byte message at offset 40");
+  EXPECT_EQ(error,
+            "sensor_msgs/msg/Image: field 'step' (4 bytes) runs past the end of the 41-byte message at offset 40");
 }
 
 void PutU32(Bytes& bytes, size_t at, uint32_t value) {
@@ -334,8 +336,9 @@ TEST(RosCdr, LengthsThatLieAreRefusedBeforeAnythingIsAllocated) {
   cloud = EncodeCdr(SampleCloud());
   const size_t fields_count_at = 4 + 8 + 4 + 12 + 8;  // after the stamp, "velodyne\0" (+3), height, width
   PutU32(cloud, fields_count_at, 1000000000u);
-  EXPECT_NE(ErrorOf([&] { DecodeCdrPointCloud2(cloud.data(), cloud.size()); })
-                .find("field 'fields' length 1000000000 runs past the end"),
+  EXPECT_NE(ErrorOf([&] {
+              DecodeCdrPointCloud2(cloud.data(), cloud.size());
+            }).find("field 'fields' length 1000000000 runs past the end"),
             std::string::npos);
 
   // 2^29 float64s are 2^32 bytes: 0 in 32 bits, refused in 64.

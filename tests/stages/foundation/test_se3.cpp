@@ -21,8 +21,7 @@ TEST(Se3, RpyRoundTripAndConvention) {
   const Eigen::Matrix3d R = RotationFromRpy(0.1, -0.2, 0.3);
   EXPECT_LT((RpyFromRotation(R) - Eigen::Vector3d(0.1, -0.2, 0.3)).norm(), 1e-12);
   // yaw about z turns x towards y.
-  EXPECT_LT((RotationFromRpy(0, 0, M_PI / 2) * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(),
-            1e-12);
+  EXPECT_LT((RotationFromRpy(0, 0, M_PI / 2) * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(), 1e-12);
 }
 
 TEST(Se3, RowMajorRoundTrip) {

@@ -3,8 +3,8 @@
 
 #include <limits>
 
-#include "support/fo_test_data.hpp"
 #include "fusion_odometry/fusion_odometry.hpp"
+#include "support/fo_test_data.hpp"
 
 namespace fusecal::fusion_odometry {
 namespace {

@@ -10,7 +10,6 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
-#include "support/fo_test_data.hpp"
 #include "fusion_odometry/derotation.hpp"
 #include "fusion_odometry/fusion_odometry.hpp"
 #include "fusion_odometry/klt_tracking.hpp"
@@ -18,6 +17,7 @@
 #include "fusion_odometry/pose_refinement.hpp"
 #include "fusion_odometry/track_selection.hpp"
 #include "fusion_odometry/visibility.hpp"
+#include "support/fo_test_data.hpp"
 
 namespace fusecal::fusion_odometry {
 namespace {
@@ -160,7 +160,8 @@ TEST(TrackSelection, KeepsTexturedSpacedPointsWithinBudget) {
   SelectionSettings settings;
   settings.max_points = 300;
   settings.min_distance_px = 10;
-  const std::vector<ScanPoint> selected = SelectTrackable(visible, CornerResponse(image, 7, false), *camera, 8, settings);
+  const std::vector<ScanPoint> selected =
+      SelectTrackable(visible, CornerResponse(image, 7, false), *camera, 8, settings);
   EXPECT_EQ(selected.size(), 300u);
   for (size_t a = 0; a < selected.size(); ++a) {
     EXPECT_LT(selected[a].pixel_i.x(), 320 + 4) << "only textured places";
@@ -222,7 +223,8 @@ TEST(KltTracking, TheSmallWindowRefinementRemovesMostOfTheCurvedFlowBias) {
     for (int dx = -8; dx <= 8; dx += 4)
       for (int y = 20; y < h - 20; y += 6) {
         double x = centre + dx + 3.0;  // where u = centre + dx lands: x - d(x) = u (Newton)
-        for (int it = 0; it < 20; ++it) x -= (x - flow(x) - (centre + dx)) / (1.0 - 2.0 * k * (std::fmod(x, period) - period / 2.0));
+        for (int it = 0; it < 20; ++it)
+          x -= (x - flow(x) - (centre + dx)) / (1.0 - 2.0 * k * (std::fmod(x, period) - period / 2.0));
         from.emplace_back(static_cast<float>(centre + dx), static_cast<float>(y));
         predicted.emplace_back(static_cast<float>(x + 0.8), static_cast<float>(y - 0.5));
         expected.push_back(x);
@@ -248,7 +250,7 @@ TEST(KltTracking, TheSmallWindowRefinementRemovesMostOfTheCurvedFlowBias) {
 }
 
 TEST(KltTracking, TheRefinementWindowFollowsThePixelAngle) {
-  TrackingSettings settings;  // window_px 15, refine_window_deg 2.5
+  TrackingSettings settings;                                // window_px 15, refine_window_deg 2.5
   EXPECT_EQ(RefineWindowPx(settings, 2 * M_PI / 1024), 7);  // 0.35 deg per pixel
   EXPECT_EQ(RefineWindowPx(settings, 2 * M_PI / 2048), 0);  // 15 px is 2.6 deg already
   EXPECT_EQ(RefineWindowPx(settings, 1.0 / 721.5), 0);      // KITTI's camera: 2.5 deg is 31 px
@@ -390,7 +392,8 @@ TEST(PoseEstimation, RansacAndRobustRefinementIgnoreAVehicleMovingWithTheCar) {
 TEST(PoseEstimation, RefinementFromAnApproximateGuessWithoutRansac) {
   const double pixel = 1.0 / 500.0;
   const Synthetic s = MakeCorrespondences(0.3 * pixel, 2, 0.2);
-  const Isometry3 guess = s.A * MakeIsometry(ExpSO3(Eigen::Vector3d(0.001, -0.001, 0.0005)), Eigen::Vector3d(0.005, 0, -0.004));
+  const Isometry3 guess =
+      s.A * MakeIsometry(ExpSO3(Eigen::Vector3d(0.001, -0.001, 0.0005)), Eigen::Vector3d(0.005, 0, -0.004));
   const std::vector<int> start = PoseInliers(s.correspondences, guess, 3.0 * pixel);
   const RefinementResult r = RefinePose(s.correspondences, guess, start, pixel, RefinementSettings{});
   ASSERT_TRUE(r.ok) << r.message;

@@ -13,10 +13,10 @@
 #include <cstdio>
 #include <opencv2/imgcodecs.hpp>
 
-#include "support/fo_test_data.hpp"
 #include "fusion_odometry/fusion_odometry.hpp"
 #include "importers/kitti.hpp"
 #include "scan_io/scan_io.hpp"
+#include "support/fo_test_data.hpp"
 #if FUSECAL_FO_HAVE_LIDAR_ICP
 #include "lidar_icp/registration.hpp"
 #endif
@@ -55,17 +55,18 @@ TEST(Kitti, ScaledCameraMotionAgreesWithLidarMotionThroughOfficialExtrinsic) {
     const Isometry3 A_ref = CameraMotionFromLidar(X, icp.T_li_lj);
 
     // First iteration: the LiDAR-predicted motion only predicts the flow (not reliable: P3P RANSAC).
-    const FusionOdometryResult r = EstimateScaledMotion(scan_a, image_a, image_b, *camera, X, MotionGuess{A_ref, false});
+    const FusionOdometryResult r =
+        EstimateScaledMotion(scan_a, image_a, image_b, *camera, X, MotionGuess{A_ref, false});
     ASSERT_TRUE(r.usable()) << a << " -> " << b << ": " << r.failure_reason;
     const Eigen::Vector3d t = r.T_ci_cj.translation(), t_ref = A_ref.translation();
     const double rotation_deg = RotationErrorDeg(r.T_ci_cj.linear(), A_ref.linear());
     const double direction_deg = DirectionErrorDeg(t, t_ref);
     const double length_pct = 100.0 * (t.norm() - t_ref.norm()) / t_ref.norm();
-    std::printf("  %02d -> %02d: |t| %.3f m (LiDAR %.3f m), rotation %.3f deg (LiDAR %.3f): rotation diff %.4f deg, "
-                "direction diff %.3f deg, length diff %+.2f %%; %d inliers of %d tracks, %.2f px rms, %.3f s\n",
-                a, b, t.norm(), t_ref.norm(), Deg(RotationAngle(r.T_ci_cj.linear())),
-                Deg(RotationAngle(A_ref.linear())), rotation_deg, direction_deg, length_pct, r.inliers,
-                r.tracked_points, r.rms_residual_px, r.seconds);
+    std::printf(
+        "  %02d -> %02d: |t| %.3f m (LiDAR %.3f m), rotation %.3f deg (LiDAR %.3f): rotation diff %.4f deg, "
+        "direction diff %.3f deg, length diff %+.2f %%; %d inliers of %d tracks, %.2f px rms, %.3f s\n",
+        a, b, t.norm(), t_ref.norm(), Deg(RotationAngle(r.T_ci_cj.linear())), Deg(RotationAngle(A_ref.linear())),
+        rotation_deg, direction_deg, length_pct, r.inliers, r.tracked_points, r.rms_residual_px, r.seconds);
     EXPECT_LT(rotation_deg, 0.1) << a << " -> " << b;
     EXPECT_LT(direction_deg, 1.5) << a << " -> " << b;
     EXPECT_LT(std::abs(length_pct), 3.0) << a << " -> " << b;

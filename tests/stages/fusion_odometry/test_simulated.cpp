@@ -8,8 +8,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "support/fo_test_data.hpp"
 #include "fusion_odometry/fusion_odometry.hpp"
+#include "support/fo_test_data.hpp"
 
 namespace fusecal::fusion_odometry {
 namespace {
@@ -48,12 +48,12 @@ MotionRun RunMotion(const SimData& data, size_t s, const Isometry3& extrinsic,
                                   MotionGuess{run.first.T_ci_cj, true}, settings);
   run.first_error = Error(run.first.T_ci_cj, A_true);
   run.next_error = Error(run.next.T_ci_cj, A_true);
-  std::printf("  motion %d -> %d (%5.1f deg, %.3f m): first %.4f deg %.2f mm (%d inliers, ransac %d), "
-              "next %.4f deg %.2f mm (%d inliers), %.3f s\n",
-              i.id, j.id, Deg(RotationAngle(A_true.linear())), A_true.translation().norm(),
-              run.first_error.rotation_deg, 1e3 * run.first_error.translation_m, run.first.inliers,
-              run.first.used_ransac, run.next_error.rotation_deg, 1e3 * run.next_error.translation_m,
-              run.next.inliers, run.first.seconds);
+  std::printf(
+      "  motion %d -> %d (%5.1f deg, %.3f m): first %.4f deg %.2f mm (%d inliers, ransac %d), "
+      "next %.4f deg %.2f mm (%d inliers), %.3f s\n",
+      i.id, j.id, Deg(RotationAngle(A_true.linear())), A_true.translation().norm(), run.first_error.rotation_deg,
+      1e3 * run.first_error.translation_m, run.first.inliers, run.first.used_ransac, run.next_error.rotation_deg,
+      1e3 * run.next_error.translation_m, run.next.inliers, run.first.seconds);
   return run;
 }
 

@@ -30,9 +30,7 @@ struct Rig {
     s.seed = seed;
     set = GenerateSyntheticMotions(s);
   }
-  SensorMotion Lidar(int k) const {
-    return Motion(SensorMotion::Sensor::kLidar, k, set.pairs[k].B, false);
-  }
+  SensorMotion Lidar(int k) const { return Motion(SensorMotion::Sensor::kLidar, k, set.pairs[k].B, false); }
   SensorMotion FrontEndCamera(int k) const {
     Isometry3 A = set.pairs[k].A;
     A.translation().normalize();
@@ -41,7 +39,8 @@ struct Rig {
   // What fusion odometry answers to a request: the metric camera motions of the pairs it lists.
   std::vector<SensorMotion> Fused(const CalibrationVersion& request) const {
     std::vector<SensorMotion> out;
-    for (const auto& [i, j] : request.used) out.push_back(Motion(SensorMotion::Sensor::kCamera, i, set.pairs[i].A, true));
+    for (const auto& [i, j] : request.used)
+      out.push_back(Motion(SensorMotion::Sensor::kCamera, i, set.pairs[i].A, true));
     return out;
   }
 
@@ -65,13 +64,14 @@ CalibratorSettings Settings() {
 }
 
 // Answers every request until none is open; returns every version seen.
-std::vector<CalibrationVersion> AnswerAll(Calibrator& calibrator, const Rig& rig, std::vector<CalibrationVersion> versions,
-                                          int64_t now) {
+std::vector<CalibrationVersion> AnswerAll(Calibrator& calibrator, const Rig& rig,
+                                          std::vector<CalibrationVersion> versions, int64_t now) {
   std::vector<CalibrationVersion> seen;
   while (!versions.empty()) {
     seen.insert(seen.end(), versions.begin(), versions.end());
     const CalibrationVersion& last = versions.back();
-    versions = last.asks() ? calibrator.OnFusedMotions(last.version, rig.Fused(last), now) : std::vector<CalibrationVersion>{};
+    versions =
+        last.asks() ? calibrator.OnFusedMotions(last.version, rig.Fused(last), now) : std::vector<CalibrationVersion>{};
   }
   return seen;
 }
@@ -180,7 +180,8 @@ TEST(Calibrator, AnUnansweredRequestIsRepeatedAfterRetryUnderTheSameVersion) {
   EXPECT_EQ(calibrator.retries(), 1);
   EXPECT_FALSE(calibrator.Tick(14 * kSecond)) << "the next repeat waits retry_s again";
   // The restarted stage answers: the round goes on to convergence and nothing is repeated any more.
-  AnswerAll(calibrator, rig, calibrator.OnFusedMotions(repeat->version, rig.Fused(*repeat), 20 * kSecond), 20 * kSecond);
+  AnswerAll(calibrator, rig, calibrator.OnFusedMotions(repeat->version, rig.Fused(*repeat), 20 * kSecond),
+            20 * kSecond);
   EXPECT_TRUE(calibrator.converged());
   EXPECT_FALSE(calibrator.Tick(100 * kSecond));
 }
@@ -199,8 +200,10 @@ TEST(Calibrator, ARestartedLoopReachesTheSameEstimateFromRepeatedMotions) {
     AnswerAll(restarted, rig, v, 0);
   }
   ASSERT_TRUE(first.converged() && restarted.converged());
-  EXPECT_LT(RotationErrorDeg(first.current()->T_camera_lidar.linear(), restarted.current()->T_camera_lidar.linear()), 0.01);
-  EXPECT_LT((first.current()->T_camera_lidar.translation() - restarted.current()->T_camera_lidar.translation()).norm(), 1e-3);
+  EXPECT_LT(RotationErrorDeg(first.current()->T_camera_lidar.linear(), restarted.current()->T_camera_lidar.linear()),
+            0.01);
+  EXPECT_LT((first.current()->T_camera_lidar.translation() - restarted.current()->T_camera_lidar.translation()).norm(),
+            1e-3);
 }
 
 TEST(Calibrator, FailedMotionsNeverPairAndFailedAnswersKeepTheEstimate) {

@@ -108,8 +108,8 @@ TEST(ChangeDetector, AnOffPairIsAChangeOnlyWhenThePairsAfterItConfirmIt) {
   EXPECT_FALSE(detector.Add(MakeTest(0, 1.5, false, quiet)));
   EXPECT_FALSE(detector.Add(MakeTest(1, 100, true, moved)));  // an outlier ...
   EXPECT_FALSE(detector.Add(MakeTest(2, 1.5, false, quiet)));
-  EXPECT_FALSE(detector.Add(MakeTest(3, 1.5, false, quiet)));  // ... that the pairs after it do not confirm
-  EXPECT_FALSE(detector.Add(MakeTest(4, 100, true, moved)));  // the pair across a change ...
+  EXPECT_FALSE(detector.Add(MakeTest(3, 1.5, false, quiet)));       // ... that the pairs after it do not confirm
+  EXPECT_FALSE(detector.Add(MakeTest(4, 100, true, moved)));        // the pair across a change ...
   const auto change = detector.Add(MakeTest(5, 54, false, moved));  // ... and one after it, not off alone
   ASSERT_TRUE(change);
   EXPECT_EQ(*change, 4) << "the change lies in the off pair";
@@ -150,8 +150,8 @@ TEST(Calibrator, NoChangeIsReportedOverALongSessionOfAnUnchangedRig) {
     const Session session(150, -1, Isometry3::Identity(), seed, 0.05, 0.001);
     Calibrator calibrator{CalibratorSettings{}};
     Play(calibrator, session);
-    EXPECT_TRUE(calibrator.changes().empty()) << "seed " << seed << ": after station "
-                                              << calibrator.changes()[0].after_station;
+    EXPECT_TRUE(calibrator.changes().empty())
+        << "seed " << seed << ": after station " << calibrator.changes()[0].after_station;
     EXPECT_TRUE(calibrator.converged());
   }
 }

@@ -253,9 +253,9 @@ TEST(HandEyeDegenerate, UnobservableDirectionsKeepTheInitialGuess) {
   EXPECT_EQ(r1.observability, Observability::kTranslationPartlyUnobservable);
   const Eigen::Vector3d d = r1.unobservable_direction;
   EXPECT_NEAR(d.dot(r1.T_camera_lidar.translation()), d.dot(guess.translation()), 1e-9);
-  EXPECT_LT((r1.T_camera_lidar.translation() - X.translation() - d * d.dot(guess.translation() - X.translation()))
-                .norm(),
-            0.02);
+  EXPECT_LT(
+      (r1.T_camera_lidar.translation() - X.translation() - d * d.dot(guess.translation() - X.translation())).norm(),
+      0.02);
 
   // Rotations about one line, noise-free: with the true extrinsic as the guess, the result is exact.
   auto c = Motions(6, 19);
@@ -266,8 +266,8 @@ TEST(HandEyeDegenerate, UnobservableDirectionsKeepTheInitialGuess) {
     auto pairs = line.pairs;
     if (!scaled)
       for (auto& p : pairs) p.camera_scaled = false;
-    const HandEyeResult r = scaled ? SolveScaled(pairs, {}, &line.T_camera_lidar)
-                                   : SolveScaleless(pairs, {}, &line.T_camera_lidar);
+    const HandEyeResult r =
+        scaled ? SolveScaled(pairs, {}, &line.T_camera_lidar) : SolveScaleless(pairs, {}, &line.T_camera_lidar);
     EXPECT_EQ(r.observability, Observability::kRotationDegenerate);
     EXPECT_FALSE(r.converged);
     EXPECT_LT(RotErrRad(r, line.T_camera_lidar), 1e-9);
@@ -383,7 +383,8 @@ TEST(HandEyeDegenerate, OneMotionFails) {
 TEST(HandEyeOutliers, AngleMismatchIsRejectedAndNamed) {
   auto data = GenerateSyntheticMotions(Motions(8, 21, 0.05, 0.003));
   MotionPair& bad = data.pairs[3];
-  bad.A.linear() = bad.A.linear() * ExpSO3(Eigen::Vector3d(0.0, 0.0, 10.0 * kDeg));  // the limit: 1 deg + 10 % of the angle
+  bad.A.linear() =
+      bad.A.linear() * ExpSO3(Eigen::Vector3d(0.0, 0.0, 10.0 * kDeg));  // the limit: 1 deg + 10 % of the angle
   const HandEyeResult r = SolveScaled(data.pairs);
   ASSERT_EQ(r.rejected_pairs.size(), 1u);
   EXPECT_EQ(r.rejected_pairs[0].station_i, bad.station_i);

@@ -19,9 +19,7 @@ const Eigen::Vector3d kY = Eigen::Vector3d::UnitY();
 const Eigen::Vector3d kZ = Eigen::Vector3d::UnitZ();
 
 // A fixed, non-trivial extrinsic, so that camera and LiDAR axes differ as in real data.
-Isometry3 Extrinsic() {
-  return MakeIsometry(RotationFromRpy(0.3, -0.2, 1.1), Eigen::Vector3d(0.1, -0.2, 0.05));
-}
+Isometry3 Extrinsic() { return MakeIsometry(RotationFromRpy(0.3, -0.2, 1.1), Eigen::Vector3d(0.1, -0.2, 0.05)); }
 
 // LiDAR motion: `lidar_deg` about `axis` (LiDAR frame) plus a translation. Camera motion: X B' X^-1 with B'
 // turning by lidar_deg + camera_extra_deg about the same axis (extra != 0: the two angles disagree).
@@ -90,12 +88,12 @@ TEST(MotionSelection, LargerRotationsArePreferredAboutTheSameAxis) {
 
 TEST(MotionSelection, PairWhoseAnglesDisagreeIsDroppedBeforeConsistentTwin) {
   // Identical LiDAR motions; the newer one's camera angle is 10 sigma off. By age alone the older one would go.
-  const std::vector<MotionPair> pairs = {Pair(1, kZ, 30.0), Pair(2, kZ, 30.0, 10.0 * kSigmaDeg),
-                                         Pair(3, kX, 30.0), Pair(4, kY, 30.0)};
+  const std::vector<MotionPair> pairs = {Pair(1, kZ, 30.0), Pair(2, kZ, 30.0, 10.0 * kSigmaDeg), Pair(3, kX, 30.0),
+                                         Pair(4, kY, 30.0)};
   EXPECT_EQ(SelectInformativePairs(pairs, 3, kSigmaDeg), (std::vector<int>{0, 2, 3}));
   // Its information is down-weighted by 1 / (1 + 10^2).
-  const double ratio = PairRotationInformation(pairs[1], kSigmaDeg).norm() /
-                       PairRotationInformation(pairs[0], kSigmaDeg).norm();
+  const double ratio =
+      PairRotationInformation(pairs[1], kSigmaDeg).norm() / PairRotationInformation(pairs[0], kSigmaDeg).norm();
   EXPECT_NEAR(ratio, 1.0 / 101.0, 1e-9);
 }
 

@@ -30,7 +30,8 @@ std::vector<MotionPair> MostlyOneAxis(double tilt_deg, double noise_deg, std::ui
     const bool tilt = k == 4 || k == 9;
     const double angle = tilt ? tilt_deg : 20.0 + 10.0 * u(rng);
     const Eigen::Vector3d axis = tilt ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitZ();
-    const Isometry3 B = MakeIsometry(ExpSO3(axis * angle * kDeg * (k % 2 ? 1 : -1)), 0.1 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    const Isometry3 B =
+        MakeIsometry(ExpSO3(axis * angle * kDeg * (k % 2 ? 1 : -1)), 0.1 * Eigen::Vector3d(u(rng), u(rng), u(rng)));
     const Isometry3 A = X * B * X.inverse();
     const auto noisy = [&](const Isometry3& T) {
       const Eigen::Vector3d d(n(rng), n(rng), n(rng));
@@ -137,8 +138,9 @@ std::vector<MotionPair> Windows(const ChainedDrive& d, int length, int stride) {
 // The same drive cut into disjoint five-step motions (15 pairs) or into one five-step motion starting at
 // every step (75 pairs that overlap): the overlapping pairs carry no more information, and the solve must
 // not claim they do. Their residuals, and the shares of the estimate they make, are correlated in sequence
-// (about 1 - lag / 5), which counts them as about 15 independent pairs: the verdict's and the reported std stay those of the disjoint pairs
-// (without the correction they were sqrt(5) smaller, and the verdict could call the rotation observed).
+// (about 1 - lag / 5), which counts them as about 15 independent pairs: the verdict's and the reported std stay those
+// of the disjoint pairs (without the correction they were sqrt(5) smaller, and the verdict could call the rotation
+// observed).
 TEST(HandEyeVerdict, OverlappingWindowsCountAsFewerPairs) {
   for (std::uint32_t seed = 1; seed <= 4; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
@@ -176,7 +178,8 @@ TEST(HandEyeVerdict, AFlatDriveNeverConvergesAndNamesTheVertical) {
       EXPECT_NE(r.status, HandEyeStatus::kConverged) << r.message;
       EXPECT_NE(r.observability, Observability::kOk) << r.message;
       EXPECT_GT(std::abs(r.unobservable_direction.dot(vertical)), 0.95) << r.message;
-      const ObservedUncertainty observed = ObservedPart(r.covariance, r.T_camera_lidar.linear(), r.unobservable_direction);
+      const ObservedUncertainty observed =
+          ObservedPart(r.covariance, r.T_camera_lidar.linear(), r.unobservable_direction);
       EXPECT_LT(observed.max_rotation_std_deg, 1.0) << r.message;
       EXPECT_GT(observed.max_rotation_std_deg, 0.0);
     }
@@ -242,7 +245,7 @@ TEST(HandEyeOutlierRejection, APairSetAsideComesBackWhenExplained) {
   ASSERT_EQ(set.outliers.count(4), 1u);
   EXPECT_EQ(set.size(), 5);
   EXPECT_FALSE(handeye::RejectOrRestoreOne(&set, input, residuals, nominal, s));  // nothing else is off
-  rot_deg[4] = 0.1;  // a better estimate explains it
+  rot_deg[4] = 0.1;                                                               // a better estimate explains it
   ASSERT_TRUE(handeye::RejectOrRestoreOne(&set, input, residuals, nominal, s));
   EXPECT_TRUE(set.outliers.empty());
   EXPECT_EQ(set.index, (std::vector<int>{0, 1, 2, 3, 4, 5}));
@@ -254,7 +257,8 @@ TEST(HandEyeScreening, AngleAgreementLimitGrowsWithTheTurn) {
   const auto pair_with = [](double angle_deg, double difference_deg) {
     MotionPair p;
     p.B = MakeIsometry(ExpSO3(Eigen::Vector3d::UnitZ() * angle_deg * kDeg), Eigen::Vector3d(1, 0, 0));
-    p.A = MakeIsometry(ExpSO3(Eigen::Vector3d::UnitY() * (angle_deg + difference_deg) * kDeg), Eigen::Vector3d(0, 1, 0));
+    p.A =
+        MakeIsometry(ExpSO3(Eigen::Vector3d::UnitY() * (angle_deg + difference_deg) * kDeg), Eigen::Vector3d(0, 1, 0));
     return p;
   };
   HandEyeSettings s;
@@ -262,8 +266,10 @@ TEST(HandEyeScreening, AngleAgreementLimitGrowsWithTheTurn) {
   const HandEyeResult large = SolveScaled({pair_with(25, 2), pair_with(30, 0)}, s);
   const HandEyeResult small = SolveScaled({pair_with(3, 2), pair_with(30, 0)}, s);
   bool large_rejected_for_angles = false, small_rejected_for_angles = false;
-  for (const auto& r : large.rejected_pairs) large_rejected_for_angles |= r.reason.find("angles disagree") != std::string::npos;
-  for (const auto& r : small.rejected_pairs) small_rejected_for_angles |= r.reason.find("angles disagree") != std::string::npos;
+  for (const auto& r : large.rejected_pairs)
+    large_rejected_for_angles |= r.reason.find("angles disagree") != std::string::npos;
+  for (const auto& r : small.rejected_pairs)
+    small_rejected_for_angles |= r.reason.find("angles disagree") != std::string::npos;
   EXPECT_FALSE(large_rejected_for_angles);
   EXPECT_TRUE(small_rejected_for_angles);
 }

@@ -18,8 +18,12 @@ constexpr double kDeg = M_PI / 180.0;
 
 TEST(Preprocess, ValidPointsDropsNonFiniteAndCropsRange) {
   PointCloud c;
-  c.points = {{0.5f, 0, 0}, {2, 0, 0}, {std::numeric_limits<float>::quiet_NaN(), 0, 0},
-              {0, std::numeric_limits<float>::infinity(), 0}, {200, 0, 0}, {0, 0, -3}};
+  c.points = {{0.5f, 0, 0},
+              {2, 0, 0},
+              {std::numeric_limits<float>::quiet_NaN(), 0, 0},
+              {0, std::numeric_limits<float>::infinity(), 0},
+              {200, 0, 0},
+              {0, 0, -3}};
   const auto v = ValidPoints(c, 1.0, 100.0);
   ASSERT_EQ(v.size(), 2u);
   EXPECT_EQ(v[0], Eigen::Vector3f(2, 0, 0));
@@ -90,10 +94,10 @@ TEST(DistanceField, SurfaceFreeSpaceAndUnknown) {
   auto value = [&](float x, float y, float z) {
     return field.Score(Eigen::Matrix3f::Identity(), Eigen::Vector3f::Zero(), {Eigen::Vector3f(x, y, z)});
   };
-  EXPECT_GT(value(5.0f, 0.0f, 0.0f), 0.9f);   // on the surface
-  EXPECT_GT(value(4.8f, 0.0f, 0.0f), 0.3f);   // near it
-  EXPECT_LT(value(2.5f, 0.0f, 0.0f), 0.0f);   // seen through: free space
-  EXPECT_EQ(value(6.5f, 0.0f, 0.0f), 0.0f);   // behind the wall: unknown
+  EXPECT_GT(value(5.0f, 0.0f, 0.0f), 0.9f);  // on the surface
+  EXPECT_GT(value(4.8f, 0.0f, 0.0f), 0.3f);  // near it
+  EXPECT_LT(value(2.5f, 0.0f, 0.0f), 0.0f);  // seen through: free space
+  EXPECT_EQ(value(6.5f, 0.0f, 0.0f), 0.0f);  // behind the wall: unknown
 }
 
 TEST(FreeSpace, PointsInFrontOfASeenWallViolate) {

@@ -43,11 +43,11 @@ class KittiRegistration : public ::testing::Test {
   RegistrationResult Motion(int a, int b) {
     const RegistrationResult r = Register(Scan(a), Scan(b));
     const Eigen::Vector3d rpy = RpyFromRotation(r.T_li_lj.linear()) * 180.0 / M_PI;
-    std::printf("  %02d <- %02d: converged %d  t [%.3f %.3f %.3f] m  rpy [%.3f %.3f %.3f] deg  fitness %.2f  "
-                "rms %.1f mm  free-space %.3f  cond %.3f  %.2f s\n",
-                a, b, r.usable(), r.T_li_lj.translation().x(), r.T_li_lj.translation().y(),
-                r.T_li_lj.translation().z(), rpy.x(), rpy.y(), rpy.z(), r.fitness, 1e3 * r.inlier_rms_m,
-                r.free_space_violation, r.conditioning, r.seconds);
+    std::printf(
+        "  %02d <- %02d: converged %d  t [%.3f %.3f %.3f] m  rpy [%.3f %.3f %.3f] deg  fitness %.2f  "
+        "rms %.1f mm  free-space %.3f  cond %.3f  %.2f s\n",
+        a, b, r.usable(), r.T_li_lj.translation().x(), r.T_li_lj.translation().y(), r.T_li_lj.translation().z(),
+        rpy.x(), rpy.y(), rpy.z(), r.fitness, 1e3 * r.inlier_rms_m, r.free_space_violation, r.conditioning, r.seconds);
     return r;
   }
 
@@ -71,8 +71,7 @@ TEST_F(KittiRegistration, ConsecutiveFramesRegisterAndChainsAgreeWithDirectMotio
     const Isometry3 chained = ab.T_li_lj * bc.T_li_lj;
     const double rotation_deg = RotationErrorDeg(chained.linear(), ac.T_li_lj.linear());
     const double translation_m = (chained.translation() - ac.T_li_lj.translation()).norm();
-    std::printf("  chain %02d-%02d-%02d vs direct: %.4f deg, %.1f mm\n", a, b, c, rotation_deg,
-                1e3 * translation_m);
+    std::printf("  chain %02d-%02d-%02d vs direct: %.4f deg, %.1f mm\n", a, b, c, rotation_deg, 1e3 * translation_m);
     EXPECT_LT(rotation_deg, 0.05) << "frames " << a << ", " << b << ", " << c;
     EXPECT_LT(translation_m, 0.02) << "frames " << a << ", " << b << ", " << c;
   }

@@ -33,8 +33,7 @@ struct Errors {
 };
 
 Errors Compare(const Isometry3& estimate, const Isometry3& truth) {
-  return {RotationErrorDeg(estimate.linear(), truth.linear()),
-          (estimate.translation() - truth.translation()).norm()};
+  return {RotationErrorDeg(estimate.linear(), truth.linear()), (estimate.translation() - truth.translation()).norm()};
 }
 
 double Median(std::vector<double> v) {
@@ -55,10 +54,11 @@ void RunMotions(const testing::ScanPattern& pattern, const std::vector<Motion>& 
     const PointCloud scan_j = testing::SimulateScan(room, T_w_li * B, pattern, 0.015, 100 + uint32_t(k));
     const RegistrationResult r = Register(scan_i, scan_j);
     const Errors e = Compare(r.T_li_lj, B);
-    std::printf("  %-22s converged %d  rot err %.4f deg  trans err %.2f mm  fitness %.2f  rms %.1f mm  cond %.3f  "
-                "free-space %.3f  iters %d  %.2f s  (%zu/%zu pts, voxel %.3f)\n",
-                m.name, r.usable(), e.rotation_deg, 1e3 * e.translation_m, r.fitness, 1e3 * r.inlier_rms_m, r.conditioning,
-                r.free_space_violation, r.iterations, r.seconds, r.source_points, r.target_points, r.voxel_size_m);
+    std::printf(
+        "  %-22s converged %d  rot err %.4f deg  trans err %.2f mm  fitness %.2f  rms %.1f mm  cond %.3f  "
+        "free-space %.3f  iters %d  %.2f s  (%zu/%zu pts, voxel %.3f)\n",
+        m.name, r.usable(), e.rotation_deg, 1e3 * e.translation_m, r.fitness, 1e3 * r.inlier_rms_m, r.conditioning,
+        r.free_space_violation, r.iterations, r.seconds, r.source_points, r.target_points, r.voxel_size_m);
     EXPECT_TRUE(r.usable()) << m.name << ": " << r.failure_reason;
     EXPECT_LT(e.rotation_deg, max_each_deg) << m.name;
     EXPECT_LT(e.translation_m, max_each_m) << m.name;
@@ -67,20 +67,17 @@ void RunMotions(const testing::ScanPattern& pattern, const std::vector<Motion>& 
     rot.push_back(e.rotation_deg);
     tra.push_back(e.translation_m);
   }
-  std::printf("  median rotation error %.4f deg, median translation error %.2f mm over %zu motions\n",
-              Median(rot), 1e3 * Median(tra), rot.size());
+  std::printf("  median rotation error %.4f deg, median translation error %.2f mm over %zu motions\n", Median(rot),
+              1e3 * Median(tra), rot.size());
   EXPECT_LE(Median(rot), max_median_deg);
   EXPECT_LE(Median(tra), max_median_m);
 }
 
 TEST(RegistrationSynthetic, MultiBeamRoomMotionsWithoutGuess) {
   const std::vector<Motion> motions = {
-      {"yaw 3, 0.1 m", 3, 0, 0, {0.1, 0.02, 0.0}},
-      {"yaw 30, 0.36 m", 30, 0, 0, {0.3, 0.2, 0.0}},
-      {"yaw 90 pitch 10", 90, 10, 0, {0.5, -0.3, 0.05}},
-      {"yaw -120 pitch -20", -120, -20, 0, {-0.4, 0.6, 0.1}},
-      {"yaw -170 roll 15", -170, 0, 15, {0.8, 0.5, 0.0}},
-      {"yaw 60 pitch 45", 60, 45, 0, {0.1, -0.2, 0.2}},
+      {"yaw 3, 0.1 m", 3, 0, 0, {0.1, 0.02, 0.0}},           {"yaw 30, 0.36 m", 30, 0, 0, {0.3, 0.2, 0.0}},
+      {"yaw 90 pitch 10", 90, 10, 0, {0.5, -0.3, 0.05}},     {"yaw -120 pitch -20", -120, -20, 0, {-0.4, 0.6, 0.1}},
+      {"yaw -170 roll 15", -170, 0, 15, {0.8, 0.5, 0.0}},    {"yaw 60 pitch 45", 60, 45, 0, {0.1, -0.2, 0.2}},
       {"yaw 145 pitch -35", 145, -35, 5, {-0.6, -0.5, 0.1}},
   };
   RunMotions(testing::Hdl64Pattern(), motions, 0.02, 0.005, 0.1, 0.02);
@@ -88,8 +85,7 @@ TEST(RegistrationSynthetic, MultiBeamRoomMotionsWithoutGuess) {
 
 TEST(RegistrationSynthetic, Yaw170Pitch30WithoutGuess) {
   // Recovered without a guess: the multi-beam scans then overlap in about a third of their points.
-  RunMotions(testing::Hdl64Pattern(), {{"yaw 170 pitch 30", 170, 30, 0, {0.3, -0.4, 0.1}}}, 0.03, 0.005, 0.03,
-             0.005);
+  RunMotions(testing::Hdl64Pattern(), {{"yaw 170 pitch 30", 170, 30, 0, {0.3, -0.4, 0.1}}}, 0.03, 0.005, 0.03, 0.005);
 }
 
 TEST(RegistrationSynthetic, DensePanoramicRoomMotionsWithoutGuess) {
@@ -129,9 +125,9 @@ TEST(RegistrationSynthetic, DegenerateGeometryIsReported) {
   testing::Scene floor;
   floor.room = {{-1000.0, -1000.0, -1.2}, {1000.0, 1000.0, 500.0}};
   const PointCloud scan_i = testing::SimulateScan(floor, Isometry3::Identity(), testing::Hdl64Pattern(1000), 0.015, 5);
-  const PointCloud scan_j = testing::SimulateScan(
-      floor, MakeIsometry(RotationFromRpy(0, 0, 0.3), Eigen::Vector3d(0.2, 0.1, 0)), testing::Hdl64Pattern(1000),
-      0.015, 6);
+  const PointCloud scan_j =
+      testing::SimulateScan(floor, MakeIsometry(RotationFromRpy(0, 0, 0.3), Eigen::Vector3d(0.2, 0.1, 0)),
+                            testing::Hdl64Pattern(1000), 0.015, 6);
   ASSERT_GT(scan_i.size(), 10000u);
   const RegistrationResult r = Register(scan_i, scan_j);
   EXPECT_FALSE(r.usable());

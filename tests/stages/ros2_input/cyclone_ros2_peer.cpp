@@ -14,8 +14,8 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
-#include <optional>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <thread>
 
 #include "dds/dds.h"
@@ -174,7 +174,8 @@ class Player {
 
  private:
   Writer Make(const std::string& ros_topic, const dds_topic_descriptor_t* descriptor) {
-    const dds_entity_t topic = dds_create_topic(participant_, descriptor, RosTopicToDds(ros_topic).c_str(), nullptr, nullptr);
+    const dds_entity_t topic =
+        dds_create_topic(participant_, descriptor, RosTopicToDds(ros_topic).c_str(), nullptr, nullptr);
     if (topic < 0) throw std::runtime_error("cannot create topic " + ros_topic);
     const dds_entity_t writer = dds_create_writer(participant_, topic, qos_, nullptr);
     if (writer < 0) throw std::runtime_error("cannot create the writer of " + ros_topic);
@@ -212,7 +213,8 @@ int Play(const std::string& log, int domain, double speed, bool compressed, bool
       continue;
     if (first < 0) first = event->utime;
     if (speed > 0)
-      std::this_thread::sleep_until(start + std::chrono::microseconds(static_cast<int64_t>((event->utime - first) / speed)));
+      std::this_thread::sleep_until(start +
+                                    std::chrono::microseconds(static_cast<int64_t>((event->utime - first) / speed)));
     player.Send(*event);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // let the last samples leave
@@ -225,7 +227,8 @@ int Play(const std::string& log, int domain, double speed, bool compressed, bool
 int ListenTf(int domain, double timeout_s) {
   const dds_entity_t participant = dds_create_participant(static_cast<dds_domainid_t>(domain), nullptr, nullptr);
   if (participant < 0) throw std::runtime_error("cannot join DDS domain " + std::to_string(domain));
-  const dds_entity_t topic = dds_create_topic(participant, &tf2_msgs_msg_dds__TFMessage__desc, "rt/tf_static", nullptr, nullptr);
+  const dds_entity_t topic =
+      dds_create_topic(participant, &tf2_msgs_msg_dds__TFMessage__desc, "rt/tf_static", nullptr, nullptr);
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
   dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
@@ -240,12 +243,12 @@ int ListenTf(int domain, double timeout_s) {
       const auto* message = static_cast<const tf2_msgs_msg_dds__TFMessage_*>(samples[0]);
       for (uint32_t i = 0; i < message->transforms_._length; ++i) {
         const auto& t = message->transforms_._buffer[i];
-        std::printf("{\"parent\":\"%s\",\"child\":\"%s\",\"stamp\":[%d,%u],\"t\":[%.17g,%.17g,%.17g],"
-                    "\"q\":[%.17g,%.17g,%.17g,%.17g]}\n",
-                    t.header_.frame_id_, t.child_frame_id_, t.header_.stamp_.sec_, t.header_.stamp_.nanosec_,
-                    t.transform_.translation_.x_, t.transform_.translation_.y_, t.transform_.translation_.z_,
-                    t.transform_.rotation_.x_, t.transform_.rotation_.y_, t.transform_.rotation_.z_,
-                    t.transform_.rotation_.w_);
+        std::printf(
+            "{\"parent\":\"%s\",\"child\":\"%s\",\"stamp\":[%d,%u],\"t\":[%.17g,%.17g,%.17g],"
+            "\"q\":[%.17g,%.17g,%.17g,%.17g]}\n",
+            t.header_.frame_id_, t.child_frame_id_, t.header_.stamp_.sec_, t.header_.stamp_.nanosec_,
+            t.transform_.translation_.x_, t.transform_.translation_.y_, t.transform_.translation_.z_,
+            t.transform_.rotation_.x_, t.transform_.rotation_.y_, t.transform_.rotation_.z_, t.transform_.rotation_.w_);
       }
       dds_return_loan(reader, samples, 1);
       dds_delete(participant);
@@ -253,7 +256,8 @@ int ListenTf(int domain, double timeout_s) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-  std::fprintf(stderr, "cyclone_ros2_peer: no TFMessage on rt/tf_static in domain %d within %.0f s\n", domain, timeout_s);
+  std::fprintf(stderr, "cyclone_ros2_peer: no TFMessage on rt/tf_static in domain %d within %.0f s\n", domain,
+               timeout_s);
   dds_delete(participant);
   return 1;
 }
@@ -283,7 +287,8 @@ int main(int argc, char** argv) {
   listen->add_option("--timeout", timeout_s);
   CLI11_PARSE(app, argc, argv);
   try {
-    if (*play) return fusecal::Play(log, domain, speed, compressed, reliable, wait_s, image_topic, cloud_topic, info_topic);
+    if (*play)
+      return fusecal::Play(log, domain, speed, compressed, reliable, wait_s, image_topic, cloud_topic, info_topic);
     return fusecal::ListenTf(domain, timeout_s);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cyclone_ros2_peer: %s\n", e.what());

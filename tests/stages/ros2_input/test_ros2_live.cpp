@@ -1,8 +1,8 @@
 // `fusecal run --ros2` against a ROS 2 robot played by a peer on Fast DDS (ROS 2's default middleware,
-// its own implementation) or on Cyclone with rosidl's types: a simulated recording (tiny-pinhole) published as sensor_msgs topics at recorded pace
-// gives the extrinsic `fusecal calibrate` gives on the same log (same stations, so within 1e-6), and a
-// reader of rt/tf_static that joins late gets it. Without the sensor topics the run ends with the list of
-// what the domain has, exit 1.
+// its own implementation) or on Cyclone with rosidl's types: a simulated recording (tiny-pinhole) published as
+// sensor_msgs topics at recorded pace gives the extrinsic `fusecal calibrate` gives on the same log (same stations, so
+// within 1e-6), and a reader of rt/tf_static that joins late gets it. Without the sensor topics the run ends with the
+// list of what the domain has, exit 1.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -39,7 +39,9 @@ class Ros2Live : public ::testing::Test {
     fs::create_directories(Dir());
     log_ = Dir() + "/tiny.lcmlog";
     ASSERT_EQ(RunCommand(kFusecal + " simulate --scenario " + SCENARIO_DIR "/tiny-pinhole.yaml --out " + log_ +
-                         " > /dev/null 2>&1").exit_code, 0);
+                         " > /dev/null 2>&1")
+                  .exit_code,
+              0);
     const auto calibrated = RunCommand(kFusecal + " calibrate --log " + log_ + " --out " + Dir() + "/ref 2>&1");
     ASSERT_EQ(calibrated.exit_code, 0) << calibrated.output;
     reference_ = ReadResultFile(Dir() + "/ref/extrinsic.yaml");
@@ -48,9 +50,11 @@ class Ros2Live : public ::testing::Test {
   // The pipeline config with this test's DDS domain for ROS 2 (sensors and tf).
   static std::string Config(int domain, double topic_timeout_s, const std::string& image_topic = "/camera/image_raw") {
     std::string text = ReadAll(PIPELINE_CONFIG);
-    text = std::regex_replace(text, std::regex("(ros2_tf:\\n  enabled: false\\n  domain:) 0"), "$1 " + std::to_string(domain));
+    text = std::regex_replace(text, std::regex("(ros2_tf:\\n  enabled: false\\n  domain:) 0"),
+                              "$1 " + std::to_string(domain));
     text = std::regex_replace(text, std::regex("(ros2_input:\\n  domain:) 0"), "$1 " + std::to_string(domain));
-    text = std::regex_replace(text, std::regex("topic_timeout_s: 15"), "topic_timeout_s: " + std::to_string(topic_timeout_s));
+    text = std::regex_replace(text, std::regex("topic_timeout_s: 15"),
+                              "topic_timeout_s: " + std::to_string(topic_timeout_s));
     text = std::regex_replace(text, std::regex("image_topic: /camera/image_raw"), "image_topic: " + image_topic);
     const std::string path = Dir() + "/config_" + std::to_string(domain) + ".yaml";
     std::ofstream(path) << text;
@@ -81,11 +85,12 @@ class Ros2Live : public ::testing::Test {
                      const std::string& image_topic = "/camera/image_raw") {
     const std::string out = Dir() + "/live_" + std::to_string(domain), run_log = out + ".log";
     fs::remove_all(out);
-    const pid_t run = StartInBackground(kFusecal + " run --ros2 --config " + Config(domain, 30, image_topic) + " --bus " +
-                                        Bus(domain) + " --out " + out, run_log);
+    const pid_t run = StartInBackground(kFusecal + " run --ros2 --config " + Config(domain, 30, image_topic) +
+                                            " --bus " + Bus(domain) + " --out " + out,
+                                        run_log);
     ASSERT_GT(run, 0);
-    const auto played = RunCommand(peer + " play " + log_ + " --domain " + std::to_string(domain) + " " +
-                                   play_flags + " 2>&1");
+    const auto played =
+        RunCommand(peer + " play " + log_ + " --domain " + std::to_string(domain) + " " + play_flags + " 2>&1");
     EXPECT_EQ(played.exit_code, 0) << played.output << ReadAll(run_log);
     WaitQuiet(run_log, 3, 30);
     const auto tf = RunCommand(peer + " tf-listen --domain " + std::to_string(domain) + " --timeout 10 2>&1");
@@ -104,8 +109,10 @@ class Ros2Live : public ::testing::Test {
     const double difference = (live.T_camera_lidar.matrix() - reference_.T_camera_lidar.matrix()).cwiseAbs().maxCoeff();
     const auto stations = Stations(out + "/session.lcmlog"), expected = Stations(Dir() + "/ref/session.lcmlog");
     if (stations == expected) {
-      EXPECT_LT(difference, 1e-6) << "live:\n" << live.T_camera_lidar.matrix() << "\ncalibrate:\n"
-                                  << reference_.T_camera_lidar.matrix() << "\n" << output;
+      EXPECT_LT(difference, 1e-6) << "live:\n"
+                                  << live.T_camera_lidar.matrix() << "\ncalibrate:\n"
+                                  << reference_.T_camera_lidar.matrix() << "\n"
+                                  << output;
     } else {
       std::cout << "stations differ from calibrate's (frames missed under load): " << stations.size() << " vs "
                 << expected.size() << "; largest difference in T " << difference << "\n";
@@ -116,8 +123,9 @@ class Ros2Live : public ::testing::Test {
     ASSERT_EQ(tf.exit_code, 0) << tf.output;
     std::smatch m;
     const std::string number = "(-?[0-9.eE+-]+)";
-    ASSERT_TRUE(std::regex_search(tf.output, m, std::regex("\"t\":\\[" + number + "," + number + "," + number + "\\],\"q\":\\[" +
-                                                               number + "," + number + "," + number + "," + number + "\\]")))
+    ASSERT_TRUE(std::regex_search(tf.output, m,
+                                  std::regex("\"t\":\\[" + number + "," + number + "," + number + "\\],\"q\":\\[" +
+                                             number + "," + number + "," + number + "," + number + "\\]")))
         << tf.output;
     const Eigen::Vector3d t(std::stod(m[1]), std::stod(m[2]), std::stod(m[3]));
     const Eigen::Quaterniond q(std::stod(m[7]), std::stod(m[4]), std::stod(m[5]), std::stod(m[6]));
@@ -146,18 +154,14 @@ class Ros2Live : public ::testing::Test {
 std::string Ros2Live::log_;
 CalibrationResult Ros2Live::reference_;
 
-TEST_F(Ros2Live, CyclonePeerWithRosidlTypesBestEffortRawImages) {
-  CalibrateLive(CYCLONE_PEER_BIN, 72, "");
-}
+TEST_F(Ros2Live, CyclonePeerWithRosidlTypesBestEffortRawImages) { CalibrateLive(CYCLONE_PEER_BIN, 72, ""); }
 
 TEST_F(Ros2Live, CyclonePeerReliableCompressedImages) {
   CalibrateLive(CYCLONE_PEER_BIN, 73, "--reliable --compressed", "/camera/image_raw/compressed");
 }
 
 // ROS 2's default middleware, reliable (its peer's default) with raw images.
-TEST_F(Ros2Live, FastDdsPeerAsRos2sDefaultMiddleware) {
-  CalibrateLive(FASTDDS_PEER_BIN, 74, "");
-}
+TEST_F(Ros2Live, FastDdsPeerAsRos2sDefaultMiddleware) { CalibrateLive(FASTDDS_PEER_BIN, 74, ""); }
 
 TEST_F(Ros2Live, FastDdsPeerBestEffortCompressedImages) {
   CalibrateLive(FASTDDS_PEER_BIN, 76, "--best-effort --compressed", "/camera/image_raw/compressed");
@@ -165,8 +169,8 @@ TEST_F(Ros2Live, FastDdsPeerBestEffortCompressedImages) {
 
 TEST_F(Ros2Live, NoPublisherEndsWithWhatTheDomainHas) {
   const std::string out = Dir() + "/silent";
-  const auto run = RunCommand(kFusecal + " run --ros2 --config " + Config(75, 3) + " --bus " + Bus(75) + " --out " +
-                              out + " 2>&1");
+  const auto run =
+      RunCommand(kFusecal + " run --ros2 --config " + Config(75, 3) + " --bus " + Bus(75) + " --out " + out + " 2>&1");
   EXPECT_EQ(run.exit_code, 1) << run.output;
   EXPECT_NE(run.output.find("no message in 3 s on ROS 2 domain 75 on /camera/image_raw (sensor_msgs/msg/Image), "
                             "/lidar/points (sensor_msgs/msg/PointCloud2), /camera/camera_info"),

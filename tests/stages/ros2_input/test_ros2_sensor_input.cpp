@@ -36,8 +36,8 @@ TEST(StampGapCounter, CountsMissingPeriodsAndNotJitter) {
   for (int i = 0; i < 10; ++i) EXPECT_EQ(gaps.Add(t += 100000 + (i % 2 ? 8000 : -8000)), 0) << i;
   EXPECT_EQ(gaps.Add(t += 300000), 2);  // two frames missing
   EXPECT_EQ(gaps.Add(t += 100000), 0);
-  EXPECT_EQ(gaps.Add(t), 0);            // a repeated stamp is not a loss
-  EXPECT_EQ(gaps.Add(t - 50000), 0);    // nor one out of order
+  EXPECT_EQ(gaps.Add(t), 0);          // a repeated stamp is not a loss
+  EXPECT_EQ(gaps.Add(t - 50000), 0);  // nor one out of order
   EXPECT_EQ(gaps.Add(t += 1000000), 9);
   EXPECT_EQ(gaps.lost(), 11);
 }

@@ -18,8 +18,8 @@
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "ros2_messages.h"
-#include "runtime/bus.hpp"
 #include "ros2_tf/node/ros2_views.hpp"
+#include "runtime/bus.hpp"
 
 namespace fusecal {
 namespace {
@@ -30,7 +30,8 @@ constexpr int kDomain = 38;
 pid_t Start(const std::string& config, const std::string& log) {
   const pid_t pid = fork();
   if (pid == 0) {
-    const std::string command = std::string(ROS2_TF_BIN) + " --config " + config + " --bus '" + kBus + "' > " + log + " 2>&1";
+    const std::string command =
+        std::string(ROS2_TF_BIN) + " --config " + config + " --bus '" + kBus + "' > " + log + " 2>&1";
     execl("/bin/sh", "sh", "-c", ("exec " + command).c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
@@ -40,7 +41,8 @@ pid_t Start(const std::string& config, const std::string& log) {
 TEST(Ros2Tf, AStaticTransformReachesARos2ReaderWithTheConfiguredFrames) {
   const std::string dir = testing::TempDir() + "fusecal_ros2_tf_" + std::to_string(getpid());
   const std::string config = dir + ".yaml", log = dir + ".log";
-  std::ofstream(config) << "ros2_tf:\n  domain: " << kDomain << "\n  parent_frame: cam_front\n  child_frame: velo_top\n";
+  std::ofstream(config) << "ros2_tf:\n  domain: " << kDomain
+                        << "\n  parent_frame: cam_front\n  child_frame: velo_top\n";
   const pid_t pid = Start(config, log);
   ASSERT_GT(pid, 0);
 
@@ -119,13 +121,16 @@ TEST(Ros2Tf, TheOverlayImageAndTheDiagnosticsReachRos2Readers) {
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
   dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
-  const dds_entity_t diagnostics = dds_create_reader(
-      participant, dds_create_topic(participant, &diagnostic_msgs_msg_dds__DiagnosticArray__desc, "rt/diagnostics", nullptr, nullptr),
-      qos, nullptr);
+  const dds_entity_t diagnostics =
+      dds_create_reader(participant,
+                        dds_create_topic(participant, &diagnostic_msgs_msg_dds__DiagnosticArray__desc, "rt/diagnostics",
+                                         nullptr, nullptr),
+                        qos, nullptr);
   dds_qset_durability(qos, DDS_DURABILITY_TRANSIENT_LOCAL);
   const dds_entity_t overlay = dds_create_reader(
-      participant, dds_create_topic(participant, &sensor_msgs_msg_dds__Image__desc, "rt/calib/overlay", nullptr, nullptr),
-      qos, nullptr);
+      participant,
+      dds_create_topic(participant, &sensor_msgs_msg_dds__Image__desc, "rt/calib/overlay", nullptr, nullptr), qos,
+      nullptr);
   dds_delete_qos(qos);
   const pid_t pid = Start(config, log);
   ASSERT_GT(pid, 0);
@@ -187,7 +192,8 @@ TEST(Ros2Tf, TheOverlayImageAndTheDiagnosticsReachRos2Readers) {
   EXPECT_EQ(status.level_, 0);  // OK: converged
   EXPECT_STREQ(status.message_, "converged (ok)");
   std::map<std::string, std::string> values;
-  for (uint32_t i = 0; i < status.values_._length; ++i) values[status.values_._buffer[i].key_] = status.values_._buffer[i].value_;
+  for (uint32_t i = 0; i < status.values_._length; ++i)
+    values[status.values_._buffer[i].key_] = status.values_._buffer[i].value_;
   EXPECT_EQ(values["version"], "4");
   EXPECT_EQ(values["translation_m"], "[0.0000, 0.0000, 0.0000]");
   dds_return_loan(overlay, image_sample, 1);

@@ -20,8 +20,7 @@ void ExpectTheFiveStations(const std::vector<EmittedStation>& stations) {
   const Score score = ScoreStations(stations, r.truth, r.camera_station, r.scan_station, TinySettings().min_still_s);
   EXPECT_EQ(score.found, 5);
   EXPECT_EQ(score.missed + score.duplicates + score.during_motion, 0)
-      << score.missed << " missed, " << score.duplicates << " duplicates, " << score.during_motion
-      << " during motion";
+      << score.missed << " missed, " << score.duplicates << " duplicates, " << score.during_motion << " during motion";
 }
 
 TEST(StationarityBadInput, CameraOnlyStreamGivesNoStationAndSaysTheLidarIsMissing) {
@@ -88,7 +87,7 @@ TEST(StationarityBadInput, DuplicateAndOutOfOrderTimestampsAreIgnoredAndCounted)
       Frame dup = f;
       if (f.camera) {
         dup.image = cv::Mat(f.image.size(), f.image.type(), cv::Scalar::all(0));  // new buffer: never
-                                                                                    // write into the recording
+                                                                                  // write into the recording
         ++image_dups;
       } else {
         dup.cloud = PointCloud();

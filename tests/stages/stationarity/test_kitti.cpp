@@ -92,8 +92,8 @@ class KittiStationarity : public ::testing::Test {
       if (trace) {
         const StationarityState st = detector->State();
         std::printf("frame %2d %-8s flow %.3f drift %.3f change %.4f ldrift %.4f still %.2f s  %s\n", f.index,
-                    ToString(st.phase), st.image_flow_px, st.image_drift_px, st.lidar_change_m, st.lidar_drift_m, st.still_for_s,
-                    st.reason.c_str());
+                    ToString(st.phase), st.image_flow_px, st.image_drift_px, st.lidar_change_m, st.lidar_drift_m,
+                    st.still_for_s, st.reason.c_str());
       }
     }
     if (auto s = detector->Flush()) out.emplace_back(frames_->back().index, std::move(*s));
@@ -119,8 +119,8 @@ TEST_F(KittiStationarity, DefaultSettingsGiveOneStationForTheStopAndNoneWhileDri
   const int image_frame = FrameOf(s.image_utime), scan_frame = FrameOf(s.scan_utime);
   const int from_frame = FrameOf(s.still_from);
   std::cout << "station " << s.id << ": image frame " << image_frame << ", scan frame " << scan_frame
-            << ", still from frame " << from_frame << ", emitted at frame " << stations[0].first
-            << ", drift " << s.image_drift_px << " px, lidar change " << s.lidar_change_m << " m\n";
+            << ", still from frame " << from_frame << ", emitted at frame " << stations[0].first << ", drift "
+            << s.image_drift_px << " px, lidar change " << s.lidar_change_m << " m\n";
   EXPECT_EQ(s.id, 0);
   // Not while driving (0-40) nor decelerating; inside the stop (54-76).
   EXPECT_GE(from_frame, 54);

@@ -189,8 +189,7 @@ TEST(RangeImage, MovingObjectsInAMinorityOfCellsDoNotCount) {
   // 30% of the points (a passing truck) come 4 m closer.
   for (size_t i = 0; i < b.size(); i += 10)
     for (size_t k = i; k < std::min(b.size(), i + 3); ++k) b.points[k] *= 0.5f;
-  const LidarChange change =
-      CompareRangeImages(BuildRangeImage(BoxScan({0, 0, 0}, true), s), BuildRangeImage(b, s), s);
+  const LidarChange change = CompareRangeImages(BuildRangeImage(BoxScan({0, 0, 0}, true), s), BuildRangeImage(b, s), s);
   ASSERT_TRUE(change.usable());
   EXPECT_LT(change.change_m, 1e-3);
 }
@@ -199,8 +198,8 @@ TEST(RangeImage, NanAndOutOfRangePointsAreSkipped) {
   const LidarChangeSettings s;
   PointCloud c = BoxScan({0, 0, 0}, true);
   for (size_t i = 0; i < c.size(); i += 2) c.points[i] = Eigen::Vector3f::Constant(NAN);
-  c.points[1] = Eigen::Vector3f(0.1f, 0, 0);    // closer than min_range_m
-  c.points[3] = Eigen::Vector3f(1e4f, 0, 0);    // beyond max_range_m
+  c.points[1] = Eigen::Vector3f(0.1f, 0, 0);  // closer than min_range_m
+  c.points[3] = Eigen::Vector3f(1e4f, 0, 0);  // beyond max_range_m
   const RangeImage img = BuildRangeImage(c, s);
   EXPECT_EQ(img.valid_points, c.size() / 2 - 2);
   PointCloud all_nan = c;

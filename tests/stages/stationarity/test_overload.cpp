@@ -17,7 +17,7 @@ using namespace fusecal::stationarity_test;
 namespace {
 
 struct Outcome {
-  int stations = 0;             // STATION messages on the bus
+  int stations = 0;  // STATION messages on the bus
   std::map<std::string, double> counters;
 };
 
@@ -31,8 +31,8 @@ Outcome Play(int burst, int queue_depth) {
   StationarityNode node(settings);
   auto bus = MakeBus("memq://");
   Outcome out;
-  auto sub = bus->Subscribe<station_t>(channels::kStation,
-                                       std::function<void(const station_t&)>([&](const station_t&) { ++out.stations; }));
+  auto sub = bus->Subscribe<station_t>(
+      channels::kStation, std::function<void(const station_t&)>([&](const station_t&) { ++out.stations; }));
   node.Start(*bus);
   const Recording& r = TinyRecording();
   bus->Publish(channels::kCameraInfo, CameraToMsg(r.scenario.camera.params, r.frames.front().utime));

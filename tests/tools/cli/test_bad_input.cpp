@@ -8,19 +8,19 @@
 
 #include <array>
 #include <cmath>
-#include <ostream>
 #include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <ostream>
 #include <string>
 #include <vector>
 
-#include "support/process_utils.hpp"
 #include "fusecal/camera_info_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "runtime/lcm_log.hpp"
+#include "support/process_utils.hpp"
 
 namespace fusecal {
 namespace {
@@ -157,74 +157,140 @@ std::vector<BadCase> Cases() {
   // --- logs ---
   c.push_back({"EmptyLog", [=] { WriteAll(log, ""); }, calibrate(log), "bad.lcmlog"});
   c.push_back({"EmptyLogInfo", [=] { WriteAll(log, ""); }, "log info " + log, "bad.lcmlog: no events"});
-  c.push_back({"TruncatedLog", [=] { const std::string b = ReadAll(GoodLog()); WriteAll(log, b.substr(0, b.size() / 2)); },
+  c.push_back({"TruncatedLog",
+               [=] {
+                 const std::string b = ReadAll(GoodLog());
+                 WriteAll(log, b.substr(0, b.size() / 2));
+               },
                calibrate(log), "truncated"});
-  c.push_back({"TruncatedLogDump", [=] { const std::string b = ReadAll(GoodLog()); WriteAll(log, b.substr(0, 100)); },
+  c.push_back({"TruncatedLogDump",
+               [=] {
+                 const std::string b = ReadAll(GoodLog());
+                 WriteAll(log, b.substr(0, 100));
+               },
                "log dump " + log, "truncated"});
-  c.push_back({"BitFlippedLog", [=] {
+  c.push_back({"BitFlippedLog",
+               [=] {
                  std::string b = ReadAll(GoodLog());
                  for (size_t k = 20; k < b.size(); k += 997) b[k] = static_cast<char>(b[k] ^ 0x5a);
                  WriteAll(log, b);
                },
                calibrate(log), "bad.lcmlog"});
-  c.push_back({"PngAsLog", [=] { good_inputs(); WriteAll(log, ReadAll(good_image)); }, calibrate(log), "bad.lcmlog"});
+  c.push_back({"PngAsLog",
+               [=] {
+                 good_inputs();
+                 WriteAll(log, ReadAll(good_image));
+               },
+               calibrate(log), "bad.lcmlog"});
   c.push_back({"MissingLog", [] {}, calibrate(In("absent.lcmlog")), "absent.lcmlog"});
-  c.push_back({"StationOfAnotherType", [=] {
+  c.push_back({"StationOfAnotherType",
+               [=] {
                  camera_info_t info{};
                  info.model = "pinhole";
                  std::vector<uint8_t> bytes(info.getEncodedSize());
                  info.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
                  LogWithStationBytes("wrong-type.lcmlog", bytes);
                },
-               calibrate(In("wrong-type.lcmlog")), "stage error (continuing): cannot decode a station_t on channel STATION",
-               false});
-  c.push_back({"StationCutShort", [=] {
+               calibrate(In("wrong-type.lcmlog")),
+               "stage error (continuing): cannot decode a station_t on channel STATION", false});
+  c.push_back({"StationCutShort",
+               [=] {
                  LogReader reader(GoodLog());
                  std::vector<uint8_t> station;
                  while (auto e = reader.Next())
-                   if (e->channel == "STATION") { station = e->data; break; }
+                   if (e->channel == "STATION") {
+                     station = e->data;
+                     break;
+                   }
                  station.resize(station.size() / 3);
                  LogWithStationBytes("short-station.lcmlog", station);
                },
-               calibrate(In("short-station.lcmlog")), "stage error (continuing): cannot decode a station_t on channel STATION",
-               false});
+               calibrate(In("short-station.lcmlog")),
+               "stage error (continuing): cannot decode a station_t on channel STATION", false});
   // --- scans ---
-  c.push_back({"EmptyScan", [=] { good_inputs(); WriteAll(scan, ""); }, "register " + scan + " " + good_scan,
-               "bad.bin -> " + good_scan + ": scan i has 0 valid points of 0"});
-  c.push_back({"AllNanScan", [=] { good_inputs(); WriteBin(scan, std::vector<float>(4000, NAN)); },
+  c.push_back({"EmptyScan",
+               [=] {
+                 good_inputs();
+                 WriteAll(scan, "");
+               },
+               "register " + scan + " " + good_scan, "bad.bin -> " + good_scan + ": scan i has 0 valid points of 0"});
+  c.push_back({"AllNanScan",
+               [=] {
+                 good_inputs();
+                 WriteBin(scan, std::vector<float>(4000, NAN));
+               },
                "register " + good_scan + " " + scan, "scan j has 0 valid points of 1000"});
-  c.push_back({"OnePointScan", [=] { good_inputs(); WriteBin(scan, {1, 2, 3, 0}); }, "register " + good_scan + " " + scan,
-               "reason"});
-  c.push_back({"ScanOfOddSize", [=] { good_inputs(); WriteAll(scan, std::string(4 * 4 * 10 + 6, '\1')); },
+  c.push_back({"OnePointScan",
+               [=] {
+                 good_inputs();
+                 WriteBin(scan, {1, 2, 3, 0});
+               },
+               "register " + good_scan + " " + scan, "reason"});
+  c.push_back({"ScanOfOddSize",
+               [=] {
+                 good_inputs();
+                 WriteAll(scan, std::string(4 * 4 * 10 + 6, '\1'));
+               },
                "register " + scan + " " + good_scan, "bad.bin"});
-  c.push_back({"TextAsPcd", [=] { good_inputs(); WriteAll(In("bad.pcd"), "this is not a point cloud\n"); },
+  c.push_back({"TextAsPcd",
+               [=] {
+                 good_inputs();
+                 WriteAll(In("bad.pcd"), "this is not a point cloud\n");
+               },
                "register " + In("bad.pcd") + " " + good_scan, "bad.pcd"});
-  c.push_back({"ScanOfUnknownKind", [=] { good_inputs(); WriteAll(In("bad.xyz"), "1 2 3\n"); },
+  c.push_back({"ScanOfUnknownKind",
+               [=] {
+                 good_inputs();
+                 WriteAll(In("bad.xyz"), "1 2 3\n");
+               },
                "register " + In("bad.xyz") + " " + good_scan, "unsupported extension"});
   // --- images ---
-  c.push_back({"EmptyImageFile", [=] { good_inputs(); WriteAll(image, ""); },
-               "camera-motion " + image + " " + good_image + " --camera " + camera, "bad.png"});
-  c.push_back({"OnePixelImage", [=] { good_inputs(); cv::imwrite(image, cv::Mat(1, 1, CV_8UC1, cv::Scalar(9))); },
-               "camera-motion " + image + " " + good_image + " --camera " + camera, "1x1"});
-  c.push_back({"BlackImages", [=] { good_inputs(); cv::imwrite(image, cv::Mat(128, 256, CV_8UC1, cv::Scalar(0))); },
-               "camera-motion " + image + " " + image + " --camera " + camera, "reason"});
-  c.push_back({"ImageOfAnotherSize", [=] { good_inputs(); cv::imwrite(image, cv::Mat(100, 300, CV_8UC1, cv::Scalar(50))); },
-               "camera-motion " + good_image + " " + image + " --camera " + camera, "300x100"});
-  c.push_back({"CameraOfUnknownModel", [=] { good_inputs(); WriteCamera(In("bad-camera.yaml"), "model: fisheye\nwidth: 256\nheight: 128\n"); },
-               "camera-motion " + good_image + " " + good_image + " --camera " + In("bad-camera.yaml"), "model"});
-  c.push_back({"CameraWithNegativeFocalLength", [=] {
+  c.push_back({"EmptyImageFile",
+               [=] {
                  good_inputs();
-                 WriteCamera(In("bad-camera.yaml"), "model: pinhole\nwidth: 256\nheight: 128\nfx: -100\nfy: 100\ncx: 128\ncy: 64\n");
+                 WriteAll(image, "");
+               },
+               "camera-motion " + image + " " + good_image + " --camera " + camera, "bad.png"});
+  c.push_back({"OnePixelImage",
+               [=] {
+                 good_inputs();
+                 cv::imwrite(image, cv::Mat(1, 1, CV_8UC1, cv::Scalar(9)));
+               },
+               "camera-motion " + image + " " + good_image + " --camera " + camera, "1x1"});
+  c.push_back({"BlackImages",
+               [=] {
+                 good_inputs();
+                 cv::imwrite(image, cv::Mat(128, 256, CV_8UC1, cv::Scalar(0)));
+               },
+               "camera-motion " + image + " " + image + " --camera " + camera, "reason"});
+  c.push_back({"ImageOfAnotherSize",
+               [=] {
+                 good_inputs();
+                 cv::imwrite(image, cv::Mat(100, 300, CV_8UC1, cv::Scalar(50)));
+               },
+               "camera-motion " + good_image + " " + image + " --camera " + camera, "300x100"});
+  c.push_back({"CameraOfUnknownModel",
+               [=] {
+                 good_inputs();
+                 WriteCamera(In("bad-camera.yaml"), "model: fisheye\nwidth: 256\nheight: 128\n");
+               },
+               "camera-motion " + good_image + " " + good_image + " --camera " + In("bad-camera.yaml"), "model"});
+  c.push_back({"CameraWithNegativeFocalLength",
+               [=] {
+                 good_inputs();
+                 WriteCamera(In("bad-camera.yaml"),
+                             "model: pinhole\nwidth: 256\nheight: 128\nfx: -100\nfy: 100\ncx: 128\ncy: 64\n");
                },
                "camera-motion " + good_image + " " + good_image + " --camera " + In("bad-camera.yaml"), "fx"});
   // --- motions ---
   c.push_back({"MotionsWithNan", [=] { WriteAll(csv, CsvHeader() + "nan,0,0,0,0,0,0,1,0,0,0,0,0,0\n"); },
                "handeye --motions " + csv + " --camera-scaled --out " + result, "NaN"});
-  c.push_back({"OneMotion", [=] { WriteAll(csv, OneAxisCsv(1)); }, "handeye --motions " + csv + " --camera-scaled --out " + result,
-               "too_few_motions"});
+  c.push_back({"OneMotion", [=] { WriteAll(csv, OneAxisCsv(1)); },
+               "handeye --motions " + csv + " --camera-scaled --out " + result, "too_few_motions"});
   c.push_back({"MotionsAboutOneAxis", [=] { WriteAll(csv, OneAxisCsv(8)); },
                "handeye --motions " + csv + " --camera-scaled --out " + result, "observability: rotation_degenerate"});
-  c.push_back({"EmptyMotionsFile", [=] { WriteAll(csv, ""); }, "handeye --motions " + csv + " --out " + result, "header"});
+  c.push_back(
+      {"EmptyMotionsFile", [=] { WriteAll(csv, ""); }, "handeye --motions " + csv + " --out " + result, "header"});
   // --- configs ---
   c.push_back({"ConfigOfWrongType", [=] { ConfigWith("c1.yaml", "stationarity", "min_still_s: abc"); },
                calibrate(GoodLog()) + " --config " + In("c1.yaml"), "min_still_s"});
@@ -239,9 +305,11 @@ std::vector<BadCase> Cases() {
   c.push_back({"ConfigNotYaml", [=] { WriteAll(In("c6.yaml"), std::string("\x01\x02{[: ::\n\t- ]\0", 14)); },
                calibrate(GoodLog()) + " --config " + In("c6.yaml"), "c6.yaml"});
   c.push_back({"ConfigMissing", [] {}, calibrate(GoodLog()) + " --config " + In("absent.yaml"), "absent.yaml"});
-  c.push_back({"LiveWithoutSpeed", [] {}, "run --log " + GoodLog() + " --live --speed 0 --out " + In("live"), "--live"});
+  c.push_back(
+      {"LiveWithoutSpeed", [] {}, "run --log " + GoodLog() + " --live --speed 0 --out " + In("live"), "--live"});
   // --- scenarios and result files ---
-  c.push_back({"ScenarioWithUnknownKey", [=] {
+  c.push_back({"ScenarioWithUnknownKey",
+               [=] {
                  std::string s = ReadAll(kScenarios + "/tiny-equirect.yaml") + "\nweather: rainy\n";
                  WriteAll(In("scenario.yaml"), s);
                },
@@ -259,8 +327,8 @@ std::vector<BadCase> EdgeCases() {
   c.push_back({"RunSpeedNan", [] {}, "run --log " + GoodLog() + " --live --speed nan --out " + In("nan"), "--speed"});
   c.push_back({"RunStagesEmpty", [] {}, "run --log " + GoodLog() + " --stages '' --out " + In("empty"), "--stages"});
   const std::string sim = "simulate --scenario " + kScenarios + "/tiny-equirect.yaml --stations-only --out ";
-  c.push_back({"SimulateOntoADirectory", [] { mkdir(In("a-dir").c_str(), 0755); }, sim + In("a-dir"),
-               "a-dir is a directory"});
+  c.push_back(
+      {"SimulateOntoADirectory", [] { mkdir(In("a-dir").c_str(), 0755); }, sim + In("a-dir"), "a-dir is a directory"});
   const std::string good_result = "T_camera_lidar: [1, 0, 0, 0.1, 0, 1, 0, 0.2, 0, 0, 1, 0.3, 0, 0, 0, 1]\n";
   const auto evaluate = "evaluate --result " + In("good-result.yaml") + " --truth " + In("truth.yaml");
   const std::pair<const char*, const char*> truths[] = {
@@ -268,7 +336,8 @@ std::vector<BadCase> EdgeCases() {
       {"EvaluateAgainstAZeroTruth", "[0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]"},
       {"EvaluateAgainstANanTruth", "[.nan, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]"}};
   for (const auto& [name, matrix] : truths)
-    c.push_back({name, [=, m = std::string(matrix)] {
+    c.push_back({name,
+                 [=, m = std::string(matrix)] {
                    WriteAll(In("good-result.yaml"), good_result);
                    WriteAll(In("truth.yaml"), "T_camera_lidar: " + m + "\n");
                  },
@@ -283,8 +352,8 @@ std::vector<BadCase> EdgeCases() {
     c.push_back({std::string("ExportToAFullDisk_") + (format[0] == 'r' ? "ros_static_tf" : format),
                  [=] { WriteAll(In("good-result.yaml"), good_result); },
                  "export " + In("good-result.yaml") + " --format " + format + " --out /dev/full", "/dev/full"});
-  c.push_back({"SimulateOntoAPipe", [] { mkfifo(In("a-pipe").c_str(), 0644); }, sim + In("a-pipe"),
-               "a-pipe is a pipe"});
+  c.push_back(
+      {"SimulateOntoAPipe", [] { mkfifo(In("a-pipe").c_str(), 0644); }, sim + In("a-pipe"), "a-pipe is a pipe"});
   return c;
 }
 
@@ -315,7 +384,8 @@ std::vector<BadCase> StrictYamlCases() {
   const std::string calibrate = "calibrate --log " + GoodLog() + " --out " + In("yaml-out") + " --config ";
   c.push_back({"ConfigKeyGivenTwice", [] { ConfigWith("d1.yaml", "", "stations_from: log\nstations_from: detector"); },
                calibrate + In("d1.yaml"), "duplicate key 'stations_from'"});
-  c.push_back({"ConfigSectionKeyGivenTwice", [] { ConfigWith("d2.yaml", "handeye", "max_iterations: 5\n  max_iterations: 9"); },
+  c.push_back({"ConfigSectionKeyGivenTwice",
+               [] { ConfigWith("d2.yaml", "handeye", "max_iterations: 5\n  max_iterations: 9"); },
                calibrate + In("d2.yaml"), "duplicate key 'max_iterations'"});
   c.push_back({"ConfigQuoteLeftOpen", [] { ConfigWith("d3.yaml", "", "note: \"unfinished"); },
                calibrate + In("d3.yaml"), "never closed"});
@@ -327,24 +397,34 @@ std::vector<BadCase> StrictYamlCases() {
     cv::randu(image, 0, 255);
     cv::imwrite(In("good.png"), image);
   };
-  c.push_back({"CameraKeyGivenTwice", [=] { textured(); WriteAll(In("d-cam.yaml"), std::string(kPanoramaCamera) + "width: 512\n"); },
+  c.push_back({"CameraKeyGivenTwice",
+               [=] {
+                 textured();
+                 WriteAll(In("d-cam.yaml"), std::string(kPanoramaCamera) + "width: 512\n");
+               },
                camera_motion + In("d-cam.yaml"), "d-cam.yaml:4: duplicate key 'width' (first at line 2)"});
-  c.push_back({"CameraQuoteLeftOpen", [=] { textured(); WriteAll(In("q-cam.yaml"), "model: 'equirectangular\nwidth: 256\nheight: 128\n"); },
+  c.push_back({"CameraQuoteLeftOpen",
+               [=] {
+                 textured();
+                 WriteAll(In("q-cam.yaml"), "model: 'equirectangular\nwidth: 256\nheight: 128\n");
+               },
                camera_motion + In("q-cam.yaml"), "q-cam.yaml:1: a quoted value opens here and is never closed"});
   const std::string matrix = "T_camera_lidar: [1, 0, 0, 0.1, 0, 1, 0, 0.2, 0, 0, 1, 0.3, 0, 0, 0, 1]\n";
   c.push_back({"ResultKeyGivenTwice", [=] { WriteAll(In("d-result.yaml"), matrix + "status: converged\n" + matrix); },
                "export " + In("d-result.yaml") + " --format json", "duplicate key 'T_camera_lidar'"});
   c.push_back({"ResultQuoteLeftOpen", [=] { WriteAll(In("q-result.yaml"), "status: \"converged\n" + matrix); },
                "export " + In("q-result.yaml") + " --format kitti", "never closed"});
-  c.push_back({"TruthKeyGivenTwice", [=] {
+  c.push_back({"TruthKeyGivenTwice",
+               [=] {
                  WriteAll(In("good-result.yaml"), matrix);
                  WriteAll(In("d-truth.yaml"), matrix + matrix);
                },
-               "evaluate --result " + In("good-result.yaml") + " --truth " + In("d-truth.yaml"), "d-truth.yaml:2: duplicate key"});
-  c.push_back({"ScenarioKeyGivenTwice", [] {
-                 WriteAll(In("d-scenario.yaml"), ReadAll(kScenarios + "/tiny-equirect.yaml") + "\nseed: 1\nseed: 2\n");
-               },
-               "simulate --scenario " + In("d-scenario.yaml") + " --out " + In("d-sim.lcmlog"), "duplicate key 'seed'"});
+               "evaluate --result " + In("good-result.yaml") + " --truth " + In("d-truth.yaml"),
+               "d-truth.yaml:2: duplicate key"});
+  c.push_back(
+      {"ScenarioKeyGivenTwice",
+       [] { WriteAll(In("d-scenario.yaml"), ReadAll(kScenarios + "/tiny-equirect.yaml") + "\nseed: 1\nseed: 2\n"); },
+       "simulate --scenario " + In("d-scenario.yaml") + " --out " + In("d-sim.lcmlog"), "duplicate key 'seed'"});
   return c;
 }
 
@@ -355,14 +435,15 @@ std::vector<BadCase> BusUrlCases() {
   c.push_back({"RunIoxMaxNotANumber", [] {}, run + "'iox://?max=banana'", "max=banana is not an integer"});
   c.push_back({"RunIoxDepthOutOfRange", [] {}, run + "'iox://?depth=100000'", "depth=100000"});
   c.push_back({"RunTtlOutOfRange", [] {}, run + "'udpm://239.255.76.67:7699?ttl=999'", "ttl=999"});
-  c.push_back({"RunReceiveBufferNegative", [] {}, run + "'udpm://239.255.76.67:7699?recv_buf_size=-1'",
-               "recv_buf_size=-1"});
+  c.push_back(
+      {"RunReceiveBufferNegative", [] {}, run + "'udpm://239.255.76.67:7699?recv_buf_size=-1'", "recv_buf_size=-1"});
   c.push_back({"RunUdpmWithoutPort", [] {}, run + "'udpm://239.255.76.67'", "GROUP:PORT"});
   c.push_back({"RunDdsUnknownOption", [] {}, run + "'dds://?domian=3'", "unknown parameter 'domian'"});
   c.push_back({"RunDdsDomainOutOfRange", [] {}, run + "'dds://?domain=300'", "domain=300"});
   c.push_back({"RunDdsWithAnAddress", [] {}, run + "'dds://10.0.0.1'", "takes no address"});
   c.push_back({"RunUnknownScheme", [] {}, run + "'zmq://localhost'", "unknown transport 'zmq'"});
-  c.push_back({"ConfigBusUrlOutOfRange", [] {
+  c.push_back({"ConfigBusUrlOutOfRange",
+               [] {
                  std::string text = ReadAll(kConfig);
                  const size_t at = text.find("\n  url: ");
                  text.replace(at + 1, text.find('\n', at + 1) - at - 1, "  url: 'dds://?depth=0'");
@@ -379,7 +460,8 @@ std::vector<BadCase> OutputAndSizeCases() {
   std::vector<BadCase> c;
   c.push_back({"HandeyeResultToAFullDisk", [] { WriteAll(In("motions.csv"), OneAxisCsv(8)); },
                "handeye --motions " + In("motions.csv") + " --camera-scaled --out /dev/full", "/dev/full"});
-  c.push_back({"ImportOntoADirectory", [] {
+  c.push_back({"ImportOntoADirectory",
+               [] {
                  mkdir(In("import-dir").c_str(), 0755);
                  mkdir(In("pairs").c_str(), 0755);
                  WriteBin(In("pairs/0001.bin"), BoxCloud());
@@ -393,8 +475,10 @@ std::vector<BadCase> OutputAndSizeCases() {
   c.push_back({"StationsWithACameraWiderThanItsImages", [] { LogWithCameraWidth("wide-camera.lcmlog", 100000); },
                "calibrate --log " + In("wide-camera.lcmlog") + " --out " + In("wide-out"),
                "failed motions: CAMERA_MOTION: image i: image is 512x256 but the camera model expects 100000x256"});
-  c.push_back({"RunSpeedNegative", [] {}, "run --log " + GoodLog() + " --live --speed -2 --out " + In("neg"), "--speed"});
-  c.push_back({"RunSpeedInfinite", [] {}, "run --log " + GoodLog() + " --live --speed inf --out " + In("inf"), "--speed"});
+  c.push_back(
+      {"RunSpeedNegative", [] {}, "run --log " + GoodLog() + " --live --speed -2 --out " + In("neg"), "--speed"});
+  c.push_back(
+      {"RunSpeedInfinite", [] {}, "run --log " + GoodLog() + " --live --speed inf --out " + In("inf"), "--speed"});
   return c;
 }
 
@@ -416,13 +500,15 @@ std::vector<BadCase> Ros2Cases() {
                "run --ros2 --config " + In("r1.yaml") + " --out " + In("r1"), "has a character ROS does not allow"});
   c.push_back({"Ros2InputDomainOutOfRange",
                [] { ConfigReplacing("r2.yaml", "ros2_input:\n  domain: 0", "ros2_input:\n  domain: 500"); },
-               "run --ros2 --config " + In("r2.yaml") + " --out " + In("r2"), "'ros2_input.domain' must be in [0, 232]"});
+               "run --ros2 --config " + In("r2.yaml") + " --out " + In("r2"),
+               "'ros2_input.domain' must be in [0, 232]"});
   c.push_back({"DoctorRos2WithABadConfig",
                [] { ConfigReplacing("r3.yaml", "topic_timeout_s: 15", "topic_timeout_s: -1"); },
                "doctor --ros2 --config " + In("r3.yaml"), "topic_timeout_s"});
-  c.push_back({"Ros2TfOverlayTopicWithASpace",
-               [] { ConfigReplacing("r4.yaml", "overlay_topic: /fusecal/overlay", "overlay_topic: \"/fusecal/over lay\""); },
-               "run --ros2 --config " + In("r4.yaml") + " --out " + In("r4"), "overlay_topic"});
+  c.push_back(
+      {"Ros2TfOverlayTopicWithASpace",
+       [] { ConfigReplacing("r4.yaml", "overlay_topic: /fusecal/overlay", "overlay_topic: \"/fusecal/over lay\""); },
+       "run --ros2 --config " + In("r4.yaml") + " --out " + In("r4"), "overlay_topic"});
   c.push_back({"ImportRosbagMcapThatIsText", [] { WriteAll(In("text.mcap"), "not a bag at all\n"); },
                "import rosbag " + In("text.mcap") + " --image-topic /a --cloud-topic /b --out " + In("text.lcmlog"),
                "not an MCAP file (no MCAP magic) at offset 0"});

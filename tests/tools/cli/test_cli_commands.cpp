@@ -1,16 +1,16 @@
 // The `fusecal` commands that wrap the cores: simulate (determinism, bad scenarios) and handeye (CSV).
 #include <gtest/gtest.h>
-#include <yaml-cpp/yaml.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <fstream>
-#include <sstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
-#include "support/process_utils.hpp"
+#include "formats/result_file.hpp"
 #include "handeye/handheld_motions.hpp"
 #include "handeye/synthetic_motions.hpp"
-#include "formats/result_file.hpp"
+#include "support/process_utils.hpp"
 
 namespace fusecal {
 namespace {
@@ -158,8 +158,8 @@ void WriteCsv(const std::string& path, const std::vector<MotionPair>& pairs, con
     const Eigen::Quaterniond qa(p.A.linear()), qb(p.B.linear());
     out << qa.w() << "," << qa.x() << "," << qa.y() << "," << qa.z() << "," << p.A.translation().x() << ","
         << p.A.translation().y() << "," << p.A.translation().z() << "," << qb.w() << "," << qb.x() << "," << qb.y()
-        << "," << qb.z() << "," << p.B.translation().x() << "," << p.B.translation().y() << ","
-        << p.B.translation().z() << "\n";
+        << "," << qb.z() << "," << p.B.translation().x() << "," << p.B.translation().y() << "," << p.B.translation().z()
+        << "\n";
   }
   out << extra_lines;
 }
@@ -196,7 +196,8 @@ TEST(HandEyeCommand, OneGlobalScaleForTheCameraTrajectory) {
   for (auto& p : set.pairs) p.A.translation() *= 2.5;
   const std::string csv = Temp("global.csv"), out = Temp("global.yaml");
   WriteCsv(csv, set.pairs);
-  const auto result = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale global --out " + out + " 2>&1");
+  const auto result =
+      RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale global --out " + out + " 2>&1");
   EXPECT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("global camera scale 0.4"), std::string::npos) << result.output;
   const CalibrationResult r = ReadResultFile(out);
@@ -220,7 +221,8 @@ TEST(HandEyeCommand, HandheldPairsAreObservedInBothScaleModes) {
   for (const std::string mode : {"per-motion", "global"}) {
     SCOPED_TRACE(mode);
     const std::string out = Temp("handheld-" + mode + ".yaml");
-    const auto run = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale " + mode + " --out " + out + " 2>&1");
+    const auto run =
+        RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale " + mode + " --out " + out + " 2>&1");
     EXPECT_EQ(run.exit_code, 0) << run.output;
     const CalibrationResult r = ReadResultFile(out);
     EXPECT_EQ(r.status, "converged") << run.output;
@@ -255,7 +257,8 @@ TEST(HandEyeCommand, FindsTheRowWhereTheExtrinsicChangedAndSolvesThePartAfterIt)
   const SyntheticMotionSet before = GenerateSyntheticMotions(settings);
   const std::string csv = Temp("moved.csv"), out = Temp("moved.yaml");
   WriteCsv(csv, pairs);
-  const auto run = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale metric --all-parts --out " + out + " 2>&1");
+  const auto run =
+      RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale metric --all-parts --out " + out + " 2>&1");
   EXPECT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("CHANGED in row 21 (after station 20"), std::string::npos) << run.output;
   const YAML::Node file = YAML::LoadFile(out);
@@ -270,11 +273,13 @@ TEST(HandEyeCommand, FindsTheRowWhereTheExtrinsicChangedAndSolvesThePartAfterIt)
   EXPECT_LT(RotationErrorDeg(first.T_camera_lidar.linear(), before.T_camera_lidar.linear()), 0.1);
   // The same rows without the change: no change, one part; --no-changes blends both parts.
   WriteCsv(csv, before.pairs);
-  const auto unchanged = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale metric --out " + out + " 2>&1");
+  const auto unchanged =
+      RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale metric --out " + out + " 2>&1");
   EXPECT_EQ(unchanged.output.find("CHANGED"), std::string::npos) << unchanged.output;
   EXPECT_EQ(YAML::LoadFile(out)["changes"].size(), 0u);
   WriteCsv(csv, pairs);
-  const auto blind = RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale metric --no-changes --out " + out + " 2>&1");
+  const auto blind =
+      RunCommand(kFusecal + " handeye --motions " + csv + " --camera-scale metric --no-changes --out " + out + " 2>&1");
   EXPECT_EQ(blind.output.find("CHANGED"), std::string::npos) << blind.output;
   EXPECT_GT(RotationErrorDeg(ReadResultFile(out).T_camera_lidar.linear(), moved.after.linear()), 0.3);
 }
@@ -333,8 +338,8 @@ TEST(StageCommands, MissingFilesFailWithTheirName) {
   const auto reg = RunCommand(kFusecal + " register /nonexistent/a.bin /nonexistent/b.bin 2>&1");
   EXPECT_EQ(reg.exit_code, 1);
   EXPECT_NE(reg.output.find("/nonexistent/a.bin"), std::string::npos) << reg.output;
-  const auto cam = RunCommand(kFusecal + " camera-motion /nonexistent/a.png /nonexistent/b.png --camera " +
-                              kScenarios + "/../pipeline.yaml 2>&1");
+  const auto cam = RunCommand(kFusecal + " camera-motion /nonexistent/a.png /nonexistent/b.png --camera " + kScenarios +
+                              "/../pipeline.yaml 2>&1");
   EXPECT_EQ(cam.exit_code, 1);
   const auto st = RunCommand(kFusecal + " stations /nonexistent.lcmlog 2>&1");
   EXPECT_EQ(st.exit_code, 1);

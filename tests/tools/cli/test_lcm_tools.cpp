@@ -79,10 +79,11 @@ std::string LcmTools::log_;
 
 TEST_F(LcmTools, AnLcmLoggerRecordingOfARunReplaysWithCalibrateToTheRunsAnswer) {
   const std::string recording = Temp("recorded.lcmlog"), run_out = Temp("run"), replay_out = Temp("replay");
-  const pid_t logger = StartInBackground("lcm-logger -f --lcm-url='" + kLoggerBus + "' " + recording, Temp("logger.txt"));
+  const pid_t logger =
+      StartInBackground("lcm-logger -f --lcm-url='" + kLoggerBus + "' " + recording, Temp("logger.txt"));
   ASSERT_TRUE(WaitFor(5, [&] { return access(recording.c_str(), F_OK) == 0; })) << ReadAll(Temp("logger.txt"));
-  const auto run = RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus '" + kLoggerBus + "' --out " +
-                              run_out + " 2>&1");
+  const auto run =
+      RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus '" + kLoggerBus + "' --out " + run_out + " 2>&1");
   kill(logger, SIGINT);
   ExitCodeOf(logger);
   ASSERT_EQ(run.exit_code, 0) << run.output;

@@ -19,7 +19,8 @@
 namespace fusecal {
 namespace {
 
-extrinsic_t ExtrinsicUsing(int version, std::vector<std::pair<int, int>> used, std::vector<std::pair<int, int>> rejected) {
+extrinsic_t ExtrinsicUsing(int version, std::vector<std::pair<int, int>> used,
+                           std::vector<std::pair<int, int>> rejected) {
   extrinsic_t e{};
   e.version = version;
   for (const auto& [i, j] : used) {
@@ -62,7 +63,8 @@ TEST(StationRetention, KeepsTheNewestStationsAndThoseOfTheHeldPairsOnly) {
 TEST(HandEyeNodeLimit, HoldsAtMostMaxMotionsAndListsEveryHeldPair) {
   SyntheticMotionSettings synthetic;
   synthetic.num_motions = 30;
-  synthetic.axes = {Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX()};
+  synthetic.axes = {Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(),
+                    Eigen::Vector3d::UnitX()};
   synthetic.rotation_noise_deg = 0.01;
   synthetic.translation_noise_m = 0.001;
   const SyntheticMotionSet set = GenerateSyntheticMotions(synthetic);
@@ -75,8 +77,10 @@ TEST(HandEyeNodeLimit, HoldsAtMostMaxMotionsAndListsEveryHeldPair) {
   std::vector<extrinsic_t> published;
   auto sub = bus->Subscribe(typed_channels::kExtrinsic, [&](const extrinsic_t& e) { published.push_back(e); });
   const auto send = [&](const MotionPair& p) {
-    bus->Publish(channels::kLidarMotion, MakeMotion(p.station_i, p.station_j, "lidar", p.B, true, Matrix6::Identity(), 1));
-    bus->Publish(channels::kCameraMotion, MakeMotion(p.station_i, p.station_j, "camera", p.A, true, Matrix6::Identity(), 1));
+    bus->Publish(channels::kLidarMotion,
+                 MakeMotion(p.station_i, p.station_j, "lidar", p.B, true, Matrix6::Identity(), 1));
+    bus->Publish(channels::kCameraMotion,
+                 MakeMotion(p.station_i, p.station_j, "camera", p.A, true, Matrix6::Identity(), 1));
     while (bus->Handle(0) > 0) {
     }
   };

@@ -6,18 +6,18 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <yaml-cpp/yaml.h>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <thread>
-#include <yaml-cpp/yaml.h>
 
-#include "support/process_utils.hpp"
-#include "foundation/extrinsic_error.hpp"
 #include "formats/ground_truth.hpp"
 #include "formats/result_file.hpp"
+#include "foundation/extrinsic_error.hpp"
 #include "runtime/shared_memory.hpp"
+#include "support/process_utils.hpp"
 
 namespace fusecal {
 namespace {
@@ -88,13 +88,14 @@ TEST_F(Pipeline, CalibrateMeetsTheBoundsAndIsDeterministic) {
   const auto again = RunCommand(kFusecal + " calibrate --log " + log_ + " --out " + Temp("cal2") + " 2>&1");
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_EQ(ReadAll(Temp("cal1") + "/extrinsic.yaml"), ReadAll(Temp("cal2") + "/extrinsic.yaml"));
-  for (const char* file : {"convergence.csv", "convergence.png", "overlay-0.png", "colored_cloud.ply", "session.lcmlog"})
+  for (const char* file :
+       {"convergence.csv", "convergence.png", "overlay-0.png", "colored_cloud.ply", "session.lcmlog"})
     EXPECT_EQ(access((Temp("cal1") + "/" + file).c_str(), F_OK), 0) << file;
 }
 
 TEST_F(Pipeline, SeparateProcessesOverUdpAgreeWithCalibrate) {
-  const auto run = RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus '" + kBus + "' --out " +
-                              Temp("run") + " 2>&1");
+  const auto run =
+      RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus '" + kBus + "' --out " + Temp("run") + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   ExpectSameAnswerAsCalibrate(Temp("run"), run.output);
 }
@@ -147,8 +148,8 @@ TEST_F(Pipeline, RoudiKilledMidRunComesBackWithTheStagesAndTheAnswerStays) {
 // Over iox:// (iceoryx zero-copy): `fusecal run` starts RouDi, keeps itself on LCM multicast and bridges
 // it to the stages (runtime/shm_transport.hpp); RouDi is stopped at the end.
 TEST_F(Pipeline, SeparateProcessesOverIoxAgreeWithCalibrate) {
-  const auto run = RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus 'iox://' --out " + Temp("run-iox") +
-                              " 2>&1");
+  const auto run =
+      RunCommand(kFusecal + " run --log " + log_ + " --speed 0 --bus 'iox://' --out " + Temp("run-iox") + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("shared memory: started iox-roudi"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("bridged to the stages' iox://"), std::string::npos) << run.output;
@@ -247,7 +248,8 @@ TEST_F(Pipeline, StageKilledOnTheHostWithoutTheLogIsGivenTheStationsThere) {
   const SplitRun run = RunSplit(log_, 7687, "split-killed", "fusion-odometry");
   ASSERT_EQ(run.a_exit, 0) << run.a_output;
   ASSERT_EQ(run.b_exit, 0) << run.b_output;
-  EXPECT_NE(run.b_output.find("stage fusion_odometry killed by signal 9; restarted"), std::string::npos) << run.b_output;
+  EXPECT_NE(run.b_output.find("stage fusion_odometry killed by signal 9; restarted"), std::string::npos)
+      << run.b_output;
   ExpectSameAnswerAsCalibrate(run.out_b, run.b_output);
 }
 
@@ -265,7 +267,8 @@ TEST(PipelineBadInput, AnUnknownStageInStagesIsNamed) {
 // session.lcmlog holds the stations but no raw frame, and `calibrate` on it gives the run's extrinsic.
 TEST(PipelineLongSession, DefaultSessionLogHasNoRawFramesAndReplaysToTheSameExtrinsic) {
   const std::string log = Temp("raw-streams.lcmlog"), out = Temp("record-default");
-  const auto sim = RunCommand(kFusecal + " simulate --scenario " + kScenarios + "/small-equirect.yaml --out " + log + " 2>&1");
+  const auto sim =
+      RunCommand(kFusecal + " simulate --scenario " + kScenarios + "/small-equirect.yaml --out " + log + " 2>&1");
   ASSERT_EQ(sim.exit_code, 0) << sim.output;
   const std::string bus = "udpm://239.255.76.67:7691?ttl=0&recv_buf_size=67108864";
   const auto run = RunCommand(kFusecal + " run --log " + log + " --speed 0 --bus '" + bus + "' --out " + out + " 2>&1");
@@ -276,10 +279,11 @@ TEST(PipelineLongSession, DefaultSessionLogHasNoRawFramesAndReplaysToTheSameExtr
   EXPECT_EQ(info.output.find("CAMERA_IMAGE"), std::string::npos) << info.output;
   EXPECT_EQ(info.output.find("LIDAR_SCAN"), std::string::npos) << info.output;
   EXPECT_FALSE(std::filesystem::exists(out + "/raw")) << "raw frames recorded";
-  const auto replay = RunCommand(kFusecal + " calibrate --log " + out + "/session.lcmlog --out " + out + "-replay 2>&1");
+  const auto replay =
+      RunCommand(kFusecal + " calibrate --log " + out + "/session.lcmlog --out " + out + "-replay 2>&1");
   ASSERT_EQ(replay.exit_code, 0) << replay.output;
-  const auto eval = RunCommand(kFusecal + " evaluate --result " + out + "-replay/extrinsic.yaml --truth " + out +
-                               "/extrinsic.yaml");
+  const auto eval =
+      RunCommand(kFusecal + " evaluate --result " + out + "-replay/extrinsic.yaml --truth " + out + "/extrinsic.yaml");
   const auto j = nlohmann::json::parse(eval.output);
   EXPECT_LT(j["rot_err_deg"].get<double>(), 1e-9) << run.output << replay.output;
   EXPECT_LT(j["trans_err_m"].get<double>(), 1e-9) << run.output << replay.output;
@@ -326,7 +330,8 @@ TEST(PipelineScenarios, CameraMovedOnItsMountIsReportedAndTheLoopConvergesAgain)
   text += "extrinsic_changes:\n  - after_stop: 4\n    delta_rpy_deg: [1.0, 0, 0]\n    delta_xyz_m: [0.02, 0, 0]\n";
   const std::string scenario = Temp("small-moved.yaml"), log = Temp("small-moved.lcmlog"), out = Temp("small-moved");
   std::ofstream(scenario) << text;
-  const auto sim = RunCommand(kFusecal + " simulate --scenario " + scenario + " --stations-only --out " + log + " 2>&1");
+  const auto sim =
+      RunCommand(kFusecal + " simulate --scenario " + scenario + " --stations-only --out " + log + " 2>&1");
   ASSERT_EQ(sim.exit_code, 0) << sim.output;
   const auto cal = RunCommand(kFusecal + " calibrate --log " + log + " --out " + out + " 2>&1");
   EXPECT_NE(cal.output.find("CHANGED after station 3"), std::string::npos) << cal.output;
@@ -377,7 +382,9 @@ TEST(PipelineBadInput, NoStationsAndOneRotationAxisGiveAVerdictNotACrash) {
   std::string text = ReadAll(kScenarios + "/tiny-equirect.yaml");
   text.replace(text.find("vertical: 2"), 11, "vertical: 0");
   std::ofstream(scenario) << text;
-  ASSERT_EQ(RunCommand(kFusecal + " simulate --scenario " + scenario + " --stations-only --out " + yaw_log + " 2>&1").exit_code, 0);
+  ASSERT_EQ(RunCommand(kFusecal + " simulate --scenario " + scenario + " --stations-only --out " + yaw_log + " 2>&1")
+                .exit_code,
+            0);
   const auto yaw = RunCommand(kFusecal + " calibrate --log " + yaw_log + " --out " + Temp("yaw") + " 2>&1");
   EXPECT_EQ(yaw.exit_code, 1) << yaw.output;
   const CalibrationResult verdict = ReadResultFile(Temp("yaw") + "/extrinsic.yaml");
@@ -393,10 +400,13 @@ TEST(PipelineBadInput, CameraThatSeesNothingOfTheLidarGivesAVerdict) {
   std::string text = ReadAll(kScenarios + "/indoor-pinhole-hdl64.yaml");
   const size_t rpy = text.find("rpy_deg: [");
   text.replace(rpy, text.find(']', rpy) - rpy + 1, "rpy_deg: [0, 0, 0]");
-  for (const auto& [key, value] : {std::pair{"horizontal: 5", "horizontal: 2"}, std::pair{"vertical: 5", "vertical: 2"}})
+  for (const auto& [key, value] :
+       {std::pair{"horizontal: 5", "horizontal: 2"}, std::pair{"vertical: 5", "vertical: 2"}})
     text.replace(text.find(key), std::string(key).size(), value);
   std::ofstream(scenario) << text;
-  ASSERT_EQ(RunCommand(kFusecal + " simulate --scenario " + scenario + " --stations-only --out " + log + " 2>&1").exit_code, 0);
+  ASSERT_EQ(
+      RunCommand(kFusecal + " simulate --scenario " + scenario + " --stations-only --out " + log + " 2>&1").exit_code,
+      0);
   const auto result = RunCommand(kFusecal + " calibrate --log " + log + " --out " + Temp("up") + " 2>&1");
   EXPECT_EQ(result.exit_code, 1) << result.output;
   EXPECT_NE(result.output.find("fusion odometry failed"), std::string::npos) << result.output;

@@ -48,7 +48,7 @@ inline std::vector<BagMessage> SampleMessages(size_t n, int64_t start_ns = 1'700
   }
   if (n > 6) {
     std::swap(messages[3].log_time_ns, messages[5].log_time_ns);  // 5 is written after 3 but is earlier
-    messages[6].log_time_ns = messages[4].log_time_ns;             // a tie: file order decides
+    messages[6].log_time_ns = messages[4].log_time_ns;            // a tie: file order decides
   }
   return messages;
 }
@@ -78,8 +78,8 @@ inline void ExpectErrorWith(const std::function<void()>& f, const std::vector<st
     f();
     ADD_FAILURE() << "no error; expected one with: " << parts.front();
   } catch (const std::runtime_error& e) {
-    for (const std::string& part : parts) EXPECT_NE(std::string(e.what()).find(part), std::string::npos)
-        << "'" << e.what() << "' lacks '" << part << "'";
+    for (const std::string& part : parts)
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << "'" << e.what() << "' lacks '" << part << "'";
   }
 }
 

@@ -7,17 +7,17 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
-#include "importers/folder.hpp"
-#include "fusecal/station_t.hpp"
-#include "importers/ishikawa.hpp"
-#include "importers/kitti.hpp"
-#include "support/process_utils.hpp"
-#include "runtime/channels.hpp"
 #include "formats/conversions.hpp"
 #include "formats/ground_truth.hpp"
 #include "formats/result_file.hpp"
 #include "foundation/extrinsic_error.hpp"
+#include "fusecal/station_t.hpp"
+#include "importers/folder.hpp"
+#include "importers/ishikawa.hpp"
+#include "importers/kitti.hpp"
+#include "runtime/channels.hpp"
 #include "scan_io/scan_io.hpp"
+#include "support/process_utils.hpp"
 #include "visualization/overlay.hpp"
 
 namespace fusecal {
@@ -47,8 +47,7 @@ std::string MakeKittiDrive(int frames) {
   const std::string dir = FreshDir("kitti");
   fs::create_directories(dir + "/image_02/data");
   fs::create_directories(dir + "/velodyne_points/data");
-  std::ofstream(dir + "/calib_velo_to_cam.txt")
-      << "calib_time: test\nR: 0 -1 0 0 0 -1 1 0 0\nT: 0.1 -0.2 -0.3\n";
+  std::ofstream(dir + "/calib_velo_to_cam.txt") << "calib_time: test\nR: 0 -1 0 0 0 -1 1 0 0\nT: 0.1 -0.2 -0.3\n";
   std::ofstream(dir + "/calib_cam_to_cam.txt")
       << "R_rect_00: 1 0 0 0 1 0 0 0 1\nP_rect_02: 100 0 32 4.5 0 100 24 0.2 0 0 1 0.003\nS_rect_02: 64 48\n";
   std::ofstream image_times(dir + "/image_02/timestamps.txt"), scan_times(dir + "/velodyne_points/timestamps.txt");
@@ -163,7 +162,8 @@ TEST(IshikawaImporter, ReadsPosesFromPlyHeadersAndMotionPairs) {
   const std::string dir = FreshDir("ishikawa"), log = dir + "/out.lcmlog";
   std::vector<Eigen::Matrix4d> poses;
   for (int n = 1; n <= 3; ++n) {
-    Eigen::Matrix4d pose = MakeIsometry(RotationFromRpy(0.01 * n, 0.2 * n, 0.5 * n), {0.1 * n, -0.2, 0.05 * n}).matrix();
+    Eigen::Matrix4d pose =
+        MakeIsometry(RotationFromRpy(0.01 * n, 0.2 * n, 0.5 * n), {0.1 * n, -0.2, 0.05 * n}).matrix();
     poses.push_back(pose);
     WriteIshikawaPly(dir + "/position" + std::to_string(n) + ".ply", pose, SmallCloud(300, float(n)));
     cv::imwrite(dir + "/position" + std::to_string(n) + ".jpg", cv::Mat(64, 128, CV_8UC3, cv::Scalar(20, 40, 60)));
@@ -191,7 +191,8 @@ TEST(IshikawaImporter, ReadsPosesFromPlyHeadersAndMotionPairs) {
   // Their panorama convention maps onto ours by a fixed rotation: forward (x_t) is our z.
   EXPECT_LT((RotationTheirsFromFusecal() * Eigen::Vector3d::UnitZ() - Eigen::Vector3d::UnitX()).norm(), 1e-12);
 
-  std::ofstream(dir + "/position3.ply", std::ios::trunc) << "ply\nformat ascii 1.0\nelement vertex 10\nproperty float x\n";
+  std::ofstream(dir + "/position3.ply", std::ios::trunc)
+      << "ply\nformat ascii 1.0\nelement vertex 10\nproperty float x\n";
   std::ofstream(dir + "/motion.txt", std::ios::trunc) << "1-2\nthree-four\n";
   EXPECT_THROW(ImportIshikawa(dir, log), std::runtime_error);
 }
@@ -243,7 +244,9 @@ TEST(KittiSnippet, AStraightDriveIsNotConvergedAndNamesWhatIsUnobserved) {
   const std::string dir = FreshDir("worked_example");
   const std::string fusecal = FUSECAL_BIN;
   ASSERT_EQ(RunCommand(fusecal + " import kitti " + kKittiDir + " --stations every:6 --out " + dir +
-                       "/kitti.lcmlog > /dev/null 2>&1").exit_code, 0);
+                       "/kitti.lcmlog > /dev/null 2>&1")
+                .exit_code,
+            0);
   const auto calibrate = RunCommand(fusecal + " calibrate --log " + dir + "/kitti.lcmlog --out " + dir + "/out 2>&1");
   EXPECT_EQ(calibrate.exit_code, 1) << calibrate.output;  // not converged
   EXPECT_NE(calibrate.output.find("result: failed (observability: too_few_motions)"), std::string::npos)
@@ -255,8 +258,8 @@ TEST(KittiSnippet, AStraightDriveIsNotConvergedAndNamesWhatIsUnobserved) {
   EXPECT_NE(result.status, "converged");
   ASSERT_TRUE(result.unobservable_direction);
   EXPECT_GT(result.unobservable_direction->z(), 0.99);  // the car drives along the camera's optical axis
-  const ObservableError observed = CompareObservablePart(result.T_camera_lidar, ReadReferenceExtrinsic(dir + "/kitti.lcmlog"),
-                                                         *result.unobservable_direction);
+  const ObservableError observed = CompareObservablePart(
+      result.T_camera_lidar, ReadReferenceExtrinsic(dir + "/kitti.lcmlog"), *result.unobservable_direction);
   EXPECT_LT(observed.direction_deg, 3.0);  // KITTI's calibration agrees with what was observed
 }
 

@@ -44,7 +44,6 @@ std::string TempPath(const std::string& name) {
   return ::testing::TempDir() + "fusecal_rosbag2_" + std::to_string(getpid()) + "_" + name;
 }
 
-
 RosImage RawImage(const cv::Mat& pixels, const std::string& encoding, int64_t utime, int padding = 0) {
   RosImage msg;
   msg.header = RosHeader{UtimeToRosStamp(utime), "camera"};
@@ -64,8 +63,10 @@ RosPointCloud2 VelodyneCloud(int64_t utime, int height = 2) {
   msg.header = RosHeader{UtimeToRosStamp(utime), "velodyne"};
   msg.height = static_cast<uint32_t>(height);
   msg.width = 3;
-  msg.fields = {{"x", 0, RosPointField::FLOAT32, 1}, {"y", 4, RosPointField::FLOAT32, 1},
-                {"z", 8, RosPointField::FLOAT32, 1}, {"intensity", 12, RosPointField::FLOAT32, 1},
+  msg.fields = {{"x", 0, RosPointField::FLOAT32, 1},
+                {"y", 4, RosPointField::FLOAT32, 1},
+                {"z", 8, RosPointField::FLOAT32, 1},
+                {"intensity", 12, RosPointField::FLOAT32, 1},
                 {"ring", 16, RosPointField::UINT16, 1}};
   msg.point_step = 22;
   msg.row_step = msg.point_step * msg.width;
@@ -103,8 +104,10 @@ std::vector<RecordedMessage> FourTypes() {
   recording.push_back(Recorded("/camera/camera_info", kT0, PlumbBob(64, 48)));
   for (int k = 0; k < 3; ++k) {
     const cv::Mat pixels(48, 64, CV_8UC3, cv::Scalar(10 * k, 20, 30));
-    recording.push_back(Recorded("/camera/image_raw", kT0 + k * 100000 + 5000, RawImage(pixels, "bgr8", kT0 + k * 100000, 3)));
-    recording.push_back(Recorded("/velodyne_points", kT0 + k * 100000 + 300000, VelodyneCloud(kT0 + k * 100000 + 20000)));
+    recording.push_back(
+        Recorded("/camera/image_raw", kT0 + k * 100000 + 5000, RawImage(pixels, "bgr8", kT0 + k * 100000, 3)));
+    recording.push_back(
+        Recorded("/velodyne_points", kT0 + k * 100000 + 300000, VelodyneCloud(kT0 + k * 100000 + 20000)));
   }
   RosCompressedImage compressed;
   compressed.header = RosHeader{UtimeToRosStamp(kT0 + 400000), "camera"};
@@ -211,8 +214,7 @@ TEST(Rosbag2Import, AMissingOrMistypedTopicListsTheBagsRos2Types) {
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.output.find("no topic /points"), std::string::npos) << missing.output;
   EXPECT_NE(missing.output.find("/cam/image (sensor_msgs/msg/Image)"), std::string::npos) << missing.output;
-  EXPECT_NE(missing.output.find("/cam/camera_info (sensor_msgs/msg/CameraInfo)"), std::string::npos)
-      << missing.output;
+  EXPECT_NE(missing.output.find("/cam/camera_info (sensor_msgs/msg/CameraInfo)"), std::string::npos) << missing.output;
   const auto mistyped = RunCommand(base + " --image-topic /cam/image --cloud-topic /cam/image 2>&1");
   EXPECT_EQ(mistyped.exit_code, 1);
   EXPECT_NE(mistyped.output.find("topic /cam/image is sensor_msgs/msg/Image, the cloud must be "
@@ -255,8 +257,7 @@ TEST(Rosbag2Import, AnUnusableMessageIsSkippedAndCounted) {
                         std::to_string(lying.size()) + "-byte message at offset " + std::to_string(data_length_at)),
             std::string::npos)
       << output;
-  EXPECT_NE(output.find("1 message(s) had a zero header stamp; their bag time was used"), std::string::npos)
-      << output;
+  EXPECT_NE(output.find("1 message(s) had a zero header stamp; their bag time was used"), std::string::npos) << output;
   const std::vector<LogEvent> events = ReadEvents(log);
   ASSERT_EQ(events.size(), 4u);
   EXPECT_EQ(events.back().utime, recording[2].arrival_utime);

@@ -33,7 +33,8 @@ void LinkFirstFrames(const fs::path& from, const fs::path& to, size_t frames) {
   std::vector<fs::path> files;
   for (const auto& entry : fs::directory_iterator(from / "data")) files.push_back(entry.path());
   std::sort(files.begin(), files.end());
-  for (size_t i = 0; i < frames && i < files.size(); ++i) fs::create_symlink(files[i], to / "data" / files[i].filename());
+  for (size_t i = 0; i < frames && i < files.size(); ++i)
+    fs::create_symlink(files[i], to / "data" / files[i].filename());
   std::ifstream in(from / "timestamps.txt");
   std::ofstream out(to / "timestamps.txt");
   std::string line;
@@ -117,13 +118,13 @@ TEST(KittiRosbag2, EveryBagImportsToTheFramesOfTheDataset) {
   ASSERT_EQ(expected.images.size(), kFrames);
   ASSERT_EQ(expected.scans.size(), kFrames);
 
-  const auto written = RunCommand(std::string(WRITE_KITTI_BAGS_BIN) + " " + kitti.string() + " " +
-                                  (dir / "bags").string() + " 2>&1");
+  const auto written =
+      RunCommand(std::string(WRITE_KITTI_BAGS_BIN) + " " + kitti.string() + " " + (dir / "bags").string() + " 2>&1");
   ASSERT_EQ(written.exit_code, 0) << written.output;
-  for (const std::string bag : {"kitti_mcap-zstd.mcap", "kitti_mcap-lz4.mcap", "kitti_mcap-none.mcap", "kitti_db3",
-                                "kitti_ros1.bag"}) {
-    for (const std::string image_topic : {"/kitti/camera_color_left/image_raw",
-                                          "/kitti/camera_color_left/image_raw/compressed"}) {
+  for (const std::string bag :
+       {"kitti_mcap-zstd.mcap", "kitti_mcap-lz4.mcap", "kitti_mcap-none.mcap", "kitti_db3", "kitti_ros1.bag"}) {
+    for (const std::string image_topic :
+         {"/kitti/camera_color_left/image_raw", "/kitti/camera_color_left/image_raw/compressed"}) {
       SCOPED_TRACE(bag + " " + image_topic);
       const std::string log = (dir / "bag.lcmlog").string();
       const auto run = RunCommand(kFusecal + " import rosbag " + (dir / "bags" / bag).string() + " --image-topic " +
@@ -131,7 +132,8 @@ TEST(KittiRosbag2, EveryBagImportsToTheFramesOfTheDataset) {
       ASSERT_EQ(run.exit_code, 0) << run.output;
       EXPECT_EQ(run.output.find("warning"), std::string::npos) << run.output;
       EXPECT_NE(run.output.find(std::to_string(kFrames) + " images, " + std::to_string(kFrames) + " scans"),
-                std::string::npos) << run.output;
+                std::string::npos)
+          << run.output;
       ExpectSameFrames(expected, ReadImported(log));
     }
   }

@@ -136,8 +136,8 @@ TEST_F(Rosbag2, LyingRecordLengthsFailWithoutCrash) {
   // A chunk whose records claim more than the chunk record holds.
   path = Mcap("bag.mcap", {"lz4", true, 4, true});
   Patch(path, file_.chunk_offsets.at(0) + kChunkCompressionField + 4 + 3, uint64_t{1} << 40, 8);
-  ExpectErrorWith([&] { Rosbag2Reader reader(path); }, {path, "truncated chunk", "offset " +
-                                                                                  std::to_string(file_.chunk_offsets[0])});
+  ExpectErrorWith([&] { Rosbag2Reader reader(path); },
+                  {path, "truncated chunk", "offset " + std::to_string(file_.chunk_offsets[0])});
   // A record inside an uncompressed chunk (no CRC to catch it first) claiming more than the records.
   path = Mcap("bag.mcap", {"", true, 4, true, false});
   Patch(path, file_.chunk_offsets.at(1) + kChunkCompressionField + 4 + 8 + 1, 1'000'000, 8);

@@ -4,25 +4,25 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <rosbag/bag.h>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
-#include <rosbag/bag.h>
 
 #include "formats/camera_file.hpp"
 #include "formats/conversions.hpp"
 #include "formats/result_file.hpp"
+#include "formats/ros_sensor_conversions.hpp"
 #include "fusecal/camera_info_t.hpp"
 #include "fusecal/image_t.hpp"
 #include "fusecal/point_cloud_t.hpp"
-#include "support/process_utils.hpp"
-#include "formats/ros_sensor_conversions.hpp"
 #include "importers/ros_messages.hpp"
 #include "importers/rosbag.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
+#include "support/process_utils.hpp"
 
 namespace fusecal {
 namespace {
@@ -46,7 +46,8 @@ sensor_msgs::Image RawImage(const cv::Mat& pixels, const std::string& encoding, 
   msg.encoding = encoding;
   msg.step = static_cast<uint32_t>(pixels.cols * pixels.elemSize() + padding);
   msg.data.assign(static_cast<size_t>(msg.step) * pixels.rows, 0xAB);
-  for (int r = 0; r < pixels.rows; ++r) std::memcpy(&msg.data[r * msg.step], pixels.ptr(r), pixels.cols * pixels.elemSize());
+  for (int r = 0; r < pixels.rows; ++r)
+    std::memcpy(&msg.data[r * msg.step], pixels.ptr(r), pixels.cols * pixels.elemSize());
   return msg;
 }
 
@@ -351,12 +352,15 @@ void WriteLogAsBag(const std::string& log_path, const std::string& bag_path, con
 TEST(RosbagImport, ASimulatedRecordingAsABagCalibratesLikeTheOriginalLog) {
   const std::string log_path = TempPath("small.lcmlog"), bag_path = TempPath("small.bag"),
                     camera_path = TempPath("camera.yaml"), imported = TempPath("imported.lcmlog");
-  ASSERT_EQ(RunCommand(kFusecal + " simulate --scenario " + std::string(SCENARIO_DIR) +
-                       "/small-equirect.yaml --out " + log_path + " > /dev/null").exit_code, 0);
+  ASSERT_EQ(RunCommand(kFusecal + " simulate --scenario " + std::string(SCENARIO_DIR) + "/small-equirect.yaml --out " +
+                       log_path + " > /dev/null")
+                .exit_code,
+            0);
   WriteLogAsBag(log_path, bag_path, camera_path);
   const auto import = RunCommand(kFusecal + " import rosbag " + bag_path +
                                  " --image-topic /camera/image_raw/compressed --cloud-topic /velodyne_points"
-                                 " --camera " + camera_path + " --out " + imported + " 2>&1");
+                                 " --camera " +
+                                 camera_path + " --out " + imported + " 2>&1");
   ASSERT_EQ(import.exit_code, 0) << import.output;
   const LogContents original = ReadLog(log_path), back = ReadLog(imported);
   ASSERT_EQ(back.images.size(), original.images.size());
@@ -370,7 +374,8 @@ TEST(RosbagImport, ASimulatedRecordingAsABagCalibratesLikeTheOriginalLog) {
     EXPECT_EQ(back.scans[i].x, original.scans[i].x);
   }
   for (const std::string& log : {log_path, imported})
-    ASSERT_EQ(RunCommand(kFusecal + " calibrate --log " + log + " --out " + log + ".out > /dev/null 2>&1").exit_code, 0);
+    ASSERT_EQ(RunCommand(kFusecal + " calibrate --log " + log + " --out " + log + ".out > /dev/null 2>&1").exit_code,
+              0);
   const CalibrationResult expected = ReadResultFile(log_path + ".out/extrinsic.yaml");
   const CalibrationResult result = ReadResultFile(imported + ".out/extrinsic.yaml");
   EXPECT_EQ(result.status, "converged");

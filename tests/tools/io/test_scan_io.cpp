@@ -110,7 +110,8 @@ TEST_F(ScanIo, AsciiPcdWrittenByHand) {
 }
 
 TEST_F(ScanIo, MissingFileThrowsNamingIt) {
-  for (const char* name : {"missing.bin", "missing.pcd", "missing.ply"}) ExpectThrowNaming(Path(name), "does not exist");
+  for (const char* name : {"missing.bin", "missing.pcd", "missing.ply"})
+    ExpectThrowNaming(Path(name), "does not exist");
 }
 
 TEST_F(ScanIo, TruncatedBinThrows) {
@@ -128,8 +129,9 @@ TEST_F(ScanIo, TruncatedPcdAndPlyThrow) {
 }
 
 TEST_F(ScanIo, TruncatedAsciiPcdThrows) {
-  const std::string header = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\n"
-                             "POINTS 3\nDATA ascii\n";
+  const std::string header =
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\n"
+      "POINTS 3\nDATA ascii\n";
   std::ofstream(Path("short_line.pcd")) << header << "1 2 3\n4 5 6\n7 8\n";
   std::ofstream(Path("short_file.pcd")) << header << "1 2 3\n4 5 6\n";
   ExpectThrowNaming(Path("short_line.pcd"), "point 3 has 2 values");

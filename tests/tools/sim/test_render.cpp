@@ -24,10 +24,9 @@ bool SameBytes(const cv::Mat& a, const cv::Mat& b) {
 
 bool SameScan(const SimulatedScan& a, const SimulatedScan& b) {
   return a.points.size() == b.points.size() &&
-         std::equal(a.points.begin(), a.points.end(), b.points.begin(),
-                    [](const LidarPoint& p, const LidarPoint& q) {
-                      return std::memcmp(&p, &q, sizeof(float) * 4 + sizeof(int32_t) + sizeof(uint16_t)) == 0;
-                    });
+         std::equal(a.points.begin(), a.points.end(), b.points.begin(), [](const LidarPoint& p, const LidarPoint& q) {
+           return std::memcmp(&p, &q, sizeof(float) * 4 + sizeof(int32_t) + sizeof(uint16_t)) == 0;
+         });
 }
 
 // The default scenario's scene and camera, shared by the (slower) full-size tests.
@@ -84,8 +83,7 @@ TEST_F(SimDefaultScene, KltTracksAcrossTenDegreeTurn) {
   // also translates a few cm and the flow depends on depth).
   const Isometry3 A_lidar = trajectory_->stills()[0].T_world_lidar;
   const Eigen::Vector3d pivot = A_lidar * scenario_->motions.yaw_pivot_m;
-  const Eigen::Matrix3d R =
-      Eigen::AngleAxisd(10.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(10.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   Isometry3 B_lidar = A_lidar;
   B_lidar.linear() = R * A_lidar.linear();
   B_lidar.translation() = R * (A_lidar.translation() - pivot) + pivot;
@@ -96,10 +94,9 @@ TEST_F(SimDefaultScene, KltTracksAcrossTenDegreeTurn) {
   std::vector<cv::Point2f> corners;
   cv::goodFeaturesToTrack(image_a, corners, 3000, 0.01, 8);
   // Leave out the poles' rows and the seam columns (KLT does not wrap around).
-  corners.erase(
-      std::remove_if(corners.begin(), corners.end(),
-                     [](const cv::Point2f& p) { return p.y < 100 || p.y > 924 || p.x < 100 || p.x > 1948; }),
-      corners.end());
+  corners.erase(std::remove_if(corners.begin(), corners.end(),
+                               [](const cv::Point2f& p) { return p.y < 100 || p.y > 924 || p.x < 100 || p.x > 1948; }),
+                corners.end());
   ASSERT_GT(corners.size(), 1000u);
   std::vector<cv::Point2f> tracked;
   std::vector<uint8_t> status;
@@ -228,8 +225,7 @@ TEST(SimRender, SimulationIsDeterministicAndRandomAccessMatchesSequence) {
 
   // Frames requested out of order (cache cold, other station cached) are the same bytes.
   Simulation c(s);
-  for (int k : {37, 3, 77, 4, 15})
-    EXPECT_TRUE(SameBytes(c.RenderCameraFrame(k).image, images[k])) << "frame " << k;
+  for (int k : {37, 3, 77, 4, 15}) EXPECT_TRUE(SameBytes(c.RenderCameraFrame(k).image, images[k])) << "frame " << k;
   const LidarFrame scan = c.RenderLidarFrame(20);
   EXPECT_TRUE(SameScan(scan.scan, b.RenderLidarFrame(20).scan));
 
@@ -287,8 +283,8 @@ TEST(SimRender, CameraMovedOnItsMountIsRenderedWithTheExtrinsicInForce) {
     EXPECT_EQ(epochs[k].after_stop, static_cast<int>(k));
   }
   for (size_t k = 0; k < 3; ++k)
-    EXPECT_TRUE(stations[k].T_world_camera.isApprox(stations[k].T_world_lidar * epochs[k].T_camera_lidar.inverse(),
-                                                    1e-12));
+    EXPECT_TRUE(
+        stations[k].T_world_camera.isApprox(stations[k].T_world_lidar * epochs[k].T_camera_lidar.inverse(), 1e-12));
 
   std::vector<std::unique_ptr<Simulation>> unchanged;  // one per extrinsic
   for (const auto& epoch : epochs) {

@@ -51,8 +51,8 @@ class SimBadScenario : public testing::Test {
 };
 
 TEST(SimScenario, ShippedScenariosLoad) {
-  for (const char* name : {"indoor-equirect-hdl64.yaml", "indoor-pinhole-hdl64.yaml",
-                           "outdoor-equirect-hdl64.yaml", "tiny-equirect.yaml"}) {
+  for (const char* name : {"indoor-equirect-hdl64.yaml", "indoor-pinhole-hdl64.yaml", "outdoor-equirect-hdl64.yaml",
+                           "tiny-equirect.yaml"}) {
     SCOPED_TRACE(name);
     Scenario s;
     ASSERT_NO_THROW(s = LoadScenario(test::ScenarioPath(name)));
@@ -90,13 +90,10 @@ TEST(SimScenario, PinholeNinetyDegrees) {
 
 TEST_F(SimBadScenario, BaseIsValid) { EXPECT_NO_THROW(LoadText(base_)); }
 
-TEST_F(SimBadScenario, UnknownTopLevelKey) {
-  ExpectErrorNaming(base_ + "colour_space: srgb\n", "colour_space");
-}
+TEST_F(SimBadScenario, UnknownTopLevelKey) { ExpectErrorNaming(base_ + "colour_space: srgb\n", "colour_space"); }
 
 TEST_F(SimBadScenario, UnknownNestedKey) {
-  ExpectErrorNaming(Replace(base_, "  width: 512\n", "  width: 512\n  exposure_ms: 3\n"),
-                    "camera.exposure_ms");
+  ExpectErrorNaming(Replace(base_, "  width: 512\n", "  width: 512\n  exposure_ms: 3\n"), "camera.exposure_ms");
 }
 
 TEST_F(SimBadScenario, NegativeWidth) {
@@ -121,10 +118,8 @@ TEST_F(SimBadScenario, MissingRequiredKey) {
 }
 
 TEST_F(SimBadScenario, WrongListSize) {
-  ExpectErrorNaming(Replace(base_, "  xyz_m: [0.0295, 0.1218, -0.0458]\n", "  xyz_m: [0.1, 0.2]\n"),
-                    "extrinsic.xyz_m");
-  ExpectErrorNaming(Replace(base_, "  rotation_deg: [10, 20]\n", "  rotation_deg: [20, 10]\n"),
-                    "motions.rotation_deg");
+  ExpectErrorNaming(Replace(base_, "  xyz_m: [0.0295, 0.1218, -0.0458]\n", "  xyz_m: [0.1, 0.2]\n"), "extrinsic.xyz_m");
+  ExpectErrorNaming(Replace(base_, "  rotation_deg: [10, 20]\n", "  rotation_deg: [20, 10]\n"), "motions.rotation_deg");
 }
 
 TEST_F(SimBadScenario, NegativeNoise) {
@@ -146,8 +141,8 @@ TEST_F(SimBadScenario, ExtrinsicChangesParse) {
   ASSERT_EQ(s.extrinsic_changes.size(), 2u);
   EXPECT_EQ(s.extrinsic_changes[0].after_stop, 2);
   EXPECT_EQ(s.extrinsic_changes[1].after_stop, 4);  // tiny: 5 stops, the 4th is the last with a motion after it
-  EXPECT_TRUE(s.extrinsic_changes[0].delta.isApprox(MakeIsometry(RotationFromRpy(M_PI / 180, 0, 0), {0.02, 0, 0}),
-                                                    1e-12));
+  EXPECT_TRUE(
+      s.extrinsic_changes[0].delta.isApprox(MakeIsometry(RotationFromRpy(M_PI / 180, 0, 0), {0.02, 0, 0}), 1e-12));
   EXPECT_NEAR(s.extrinsic_changes[1].delta.translation().z(), 0.01, 1e-15);
   EXPECT_NEAR(RpyFromRotation(s.extrinsic_changes[1].delta.linear()).z(), -2 * M_PI / 180, 1e-12);
 }
@@ -156,7 +151,8 @@ TEST_F(SimBadScenario, BadExtrinsicChanges) {
   const auto change = [&](const std::string& entries) { return base_ + "extrinsic_changes:\n" + entries; };
   const std::string ok = "  - {after_stop: 1, delta_rpy_deg: [1, 0, 0], delta_xyz_m: [0, 0, 0]}\n";
   for (const char* stop : {"0", "5", "-1"})  // tiny has 5 stops: no motion after the 5th
-    ExpectErrorNaming(change("  - {after_stop: " + std::string(stop) + ", delta_rpy_deg: [1, 0, 0], "
+    ExpectErrorNaming(change("  - {after_stop: " + std::string(stop) +
+                             ", delta_rpy_deg: [1, 0, 0], "
                              "delta_xyz_m: [0, 0, 0]}\n"),
                       "extrinsic_changes[0].after_stop");
   ExpectErrorNaming(change(ok + ok), "extrinsic_changes[1].after_stop");  // two at one stop

@@ -51,8 +51,7 @@ TEST_F(SimTrajectoryTest, StillIntervalsAreStill) {
     EXPECT_EQ(trajectory_.StillStation(t, t), -1);
     const Isometry3 T = trajectory_.T_world_lidar(t);
     EXPECT_GT(RotationErrorDeg(T.linear(), trajectory_.stills()[m.from_station].T_world_lidar.linear()), 1.0);
-    EXPECT_GT(RotationErrorDeg(T.linear(), trajectory_.stills()[m.from_station + 1].T_world_lidar.linear()),
-              1.0);
+    EXPECT_GT(RotationErrorDeg(T.linear(), trajectory_.stills()[m.from_station + 1].T_world_lidar.linear()), 1.0);
   }
 }
 
@@ -137,8 +136,7 @@ TEST(SimTrajectory, AlternatingTiltAxesAndGroupedOrder) {
   // The two tilts are about the rig's pitch and roll axes: seen from the LiDAR, about y then x.
   for (int k = 2; k < 4; ++k) {
     const auto& m = tr.motions()[k];
-    const Eigen::Vector3d axis_lidar =
-        tr.stills()[m.from_station].T_world_lidar.linear().transpose() * m.axis_world;
+    const Eigen::Vector3d axis_lidar = tr.stills()[m.from_station].T_world_lidar.linear().transpose() * m.axis_world;
     EXPECT_GT(std::abs(axis_lidar[k == 2 ? 1 : 0]), 0.95) << axis_lidar.transpose();
   }
 }

@@ -10,14 +10,14 @@
 #include <random>
 
 #include "camera_frontend/relative_pose.hpp"
+#include "formats/conversions.hpp"
+#include "formats/ground_truth.hpp"
 #include "foundation/extrinsic_error.hpp"
 #include "fusecal/station_t.hpp"
 #include "fusion_odometry/fusion_odometry.hpp"
 #include "handeye/handeye_solver.hpp"
 #include "lidar_icp/registration.hpp"
 #include "runtime/channels.hpp"
-#include "formats/conversions.hpp"
-#include "formats/ground_truth.hpp"
 #include "runtime/lcm_log.hpp"
 
 using namespace fusecal;
@@ -70,7 +70,8 @@ std::vector<Motion> MeasureMotions(const std::map<int, Station>& stations, const
     const auto icp = lidar_icp::Register(it->second.cloud, next->second.cloud);
     const auto cam = EstimateRelativePose(it->second.image, next->second.image, camera);
     if (!icp.usable() || !cam.usable()) {
-      std::cerr << "motion " << it->first << "-" << next->first << " skipped: " << icp.failure_reason.text << cam.failure_reason.text << "\n";
+      std::cerr << "motion " << it->first << "-" << next->first << " skipped: " << icp.failure_reason.text
+                << cam.failure_reason.text << "\n";
       continue;
     }
     const Isometry3 B_true = world_lidar[it->first].inverse() * world_lidar[next->first];
@@ -161,21 +162,24 @@ int main(int argc, char** argv) {
   const int max_pairs = argc > 4 ? std::atoi(argv[4]) : 5;
   const auto truths = ReadGroundTruths(log);
   if (truths.size() != 1) {
-    std::cerr << log << (truths.empty() ? ": no GROUND_TRUTH (make it with `fusecal simulate --stations-only`)\n"
-                                        : ": the camera moves on its mount in this log; the bench needs one extrinsic\n");
+    std::cerr << log
+              << (truths.empty() ? ": no GROUND_TRUTH (make it with `fusecal simulate --stations-only`)\n"
+                                 : ": the camera moves on its mount in this log; the bench needs one extrinsic\n");
     return 1;
   }
   const ground_truth_t* truth = &truths.front();
   const Isometry3 X_true = CheckedTruthExtrinsic(*truth).T_camera_lidar;
   std::map<int, Isometry3> world_lidar;
-  for (int k = 0; k < truth->num_stations; ++k) world_lidar[truth->station_id[k]] = FromRowMajor(truth->T_world_lidar[k].data());
+  for (int k = 0; k < truth->num_stations; ++k)
+    world_lidar[truth->station_id[k]] = FromRowMajor(truth->T_world_lidar[k].data());
 
   Recording rec;
   rec.stations = ReadStations(log, &rec.camera);
   rec.motions = MeasureMotions(rec.stations, *rec.camera, world_lidar);
   std::vector<int> horizontal, vertical;
   for (size_t k = 0; k < rec.motions.size(); ++k) (rec.motions[k].horizontal ? horizontal : vertical).push_back(int(k));
-  std::cerr << rec.motions.size() << " motions: " << horizontal.size() << " horizontal, " << vertical.size() << " vertical\n";
+  std::cerr << rec.motions.size() << " motions: " << horizontal.size() << " horizontal, " << vertical.size()
+            << " vertical\n";
 
   std::ofstream csv(csv_path);
   csv << "pairs,method,rot_err_deg_mean,rot_err_deg_std,trans_err_m_mean,trans_err_m_std,trials\n";
@@ -191,10 +195,11 @@ int main(int argc, char** argv) {
       chosen.insert(chosen.end(), vertical.begin(), vertical.begin() + n);
       RunTrial(rec, chosen, X_true, &errors);
     }
-    for (const auto& [name, rot, trans] : {std::tuple{"scaleless", errors.rot_s, errors.trans_s},
-                                           std::tuple{"ours", errors.rot_o, errors.trans_o}}) {
+    for (const auto& [name, rot, trans] :
+         {std::tuple{"scaleless", errors.rot_s, errors.trans_s}, std::tuple{"ours", errors.rot_o, errors.trans_o}}) {
       const Stats r = MeanStd(rot), t = MeanStd(trans);
-      csv << n << "," << name << "," << r.mean << "," << r.std << "," << t.mean << "," << t.std << "," << rot.size() << "\n";
+      csv << n << "," << name << "," << r.mean << "," << r.std << "," << t.mean << "," << t.std << "," << rot.size()
+          << "\n";
       std::cout << std::setw(5) << n << "  " << std::setw(9) << name << "  " << r.mean << "    " << r.std << "    "
                 << t.mean * 100 << "           " << t.std * 100 << "\n";
     }

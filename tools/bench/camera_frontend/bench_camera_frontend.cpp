@@ -19,8 +19,8 @@
 #include <vector>
 
 #include "camera_frontend/relative_pose.hpp"
-#include "support/synthetic_room.hpp"
 #include "support/camera_frontend_helpers.hpp"
+#include "support/synthetic_room.hpp"
 
 using namespace fusecal;
 using namespace fusecal::test;
@@ -49,13 +49,13 @@ void Bench(const std::string& name, const CameraModel& camera, const cv::Mat& im
     cached.push_back(r.seconds - r.seconds_features / 2);
   }
   std::printf("%s (%dx%d): %s, %d features/image, %d matches, %d inliers\n", name.c_str(), camera.width(),
-              camera.height(), r.usable() ? "valid" : ("NOT VALID: " + r.failure_reason.text).c_str(),
-              r.features_i, r.matches, r.inliers);
+              camera.height(), r.usable() ? "valid" : ("NOT VALID: " + r.failure_reason.text).c_str(), r.features_i,
+              r.matches, r.inliers);
   std::printf(
       "  per pair: median %.3f s, min %.3f s over %d runs  [features (2 images) %.3f, matching %.3f, "
       "RANSAC %.3f, refinement %.3f]\n",
-      Median(total), *std::min_element(total.begin(), total.end()), repetitions, Median(features),
-      Median(matching), Median(ransac), Median(refinement));
+      Median(total), *std::min_element(total.begin(), total.end()), repetitions, Median(features), Median(matching),
+      Median(ransac), Median(refinement));
   std::printf("  per pair with features of image i cached (streaming): median %.3f s\n", Median(cached));
   std::printf("  CPU time per pair (all threads): median %.3f s\n", Median(cpu));
   if (A_true) {
@@ -84,9 +84,9 @@ int main(int argc, char** argv) {
   {  // Panorama 2048x1024.
     const auto camera = MakeCameraModel(PanoramaParams(2048));
     const Isometry3 T_world_ci = MakeIsometry(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.2, -0.1, 0.3));
-    const Isometry3 A = MakeIsometry(
-        Eigen::AngleAxisd(Rad(20), Eigen::Vector3d(0.2, 1, -0.1).normalized()).toRotationMatrix(),
-        Eigen::Vector3d(0.25, 0.05, -0.15));
+    const Isometry3 A =
+        MakeIsometry(Eigen::AngleAxisd(Rad(20), Eigen::Vector3d(0.2, 1, -0.1).normalized()).toRotationMatrix(),
+                     Eigen::Vector3d(0.25, 0.05, -0.15));
     const cv::Mat image_i = room.Render(*camera, T_world_ci, 2, 1.5, 1);
     const cv::Mat image_j = room.Render(*camera, T_world_ci * A, 2, 1.5, 2);
     Bench("synthetic panorama", *camera, image_i, image_j, &A, repetitions, settings);
@@ -100,8 +100,7 @@ int main(int argc, char** argv) {
       const cv::Mat image_j = cv::imread(dir + "0000000004.png", cv::IMREAD_UNCHANGED);
       Bench("KITTI frames 0 -> 4", *camera, image_i, image_j, nullptr, repetitions, settings);
     } else {
-      std::printf("KITTI snippet not found at %s: synthetic room seen by the KITTI camera instead\n",
-                  dir.c_str());
+      std::printf("KITTI snippet not found at %s: synthetic room seen by the KITTI camera instead\n", dir.c_str());
       const Isometry3 T_world_ci = MakeIsometry(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.0, 0.0, -2.0));
       const Isometry3 A = MakeIsometry(Eigen::AngleAxisd(Rad(3), Eigen::Vector3d::UnitY()).toRotationMatrix(),
                                        Eigen::Vector3d(0.05, 0.0, 0.3));

@@ -166,8 +166,8 @@ Motions Fuse(const Session& s, const Isometry3& X) {
 
 enum class Side { kBoth, kCameraOnly, kLidarOnly };
 
-// One scaled solve from `initial` (X_true when not given); its covariance from the residuals alone unless `camera_shared` is given
-// (the camera's shared errors added as handeye/shared_error.hpp does).
+// One scaled solve from `initial` (X_true when not given); its covariance from the residuals alone unless
+// `camera_shared` is given (the camera's shared errors added as handeye/shared_error.hpp does).
 HandEyeResult Step(const Session& s, const Motions& m, Side side, const SharedErrors* camera_shared = nullptr,
                    const Isometry3* initial = nullptr,
                    bool rotation_noise_by_axis = HandEyeSettings{}.rotation_noise_by_axis) {
@@ -199,8 +199,7 @@ void PrintMotionErrors(const char* kind, const PairKey& key, const Isometry3& es
   std::printf(",%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", w.x(), w.y(), w.z(), t.x(), t.y(), t.z());
 }
 
-void PrintErrorAndStd(const char* kind, const std::string& name, const Vector6d& d,
-                      const Matrix6& covariance) {
+void PrintErrorAndStd(const char* kind, const std::string& name, const Vector6d& d, const Matrix6& covariance) {
   std::printf("%s,%s", kind, name.c_str());
   for (int k = 0; k < 6; ++k) std::printf(",%.6g", d[k]);
   for (int k = 0; k < 6; ++k) std::printf(",%.6g", std::sqrt(std::max(covariance(k, k), 0.0)));

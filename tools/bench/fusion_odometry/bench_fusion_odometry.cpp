@@ -5,8 +5,8 @@
 //   bench_fusion_odometry [scenario.yaml] [--stations N] [--no-kitti] [--no-sim] [--set key=value ...]
 // Environment: FO_GAP (KITTI frame-index gap, default 4), FO_DEBUG (tracking error against the truth),
 // FO_DUMP=dir (KITTI overlays of the inliers and their residual under the LiDAR reference, x10).
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <opencv2/imgcodecs.hpp>
@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "support/fo_test_data.hpp"
 #include "fusion_odometry/fusion_odometry.hpp"
 #include "importers/kitti.hpp"
+#include "support/fo_test_data.hpp"
 #if FUSECAL_FO_HAVE_LIDAR_ICP
 #include "lidar_icp/registration.hpp"
 #endif
@@ -37,35 +37,54 @@ bool SetOption(const std::string& kv) {
   const std::string key = kv.substr(0, eq);
   const double v = std::atof(kv.c_str() + eq + 1);
   FusionOdometrySettings& s = g_settings;
-  if (key == "quality") s.selection.min_corner_quality = v;
-  else if (key == "spacing") s.selection.min_distance_px = v;
-  else if (key == "max_points") s.selection.max_points = static_cast<int>(v);
-  else if (key == "block") s.selection.corner_block_size = static_cast<int>(v);
-  else if (key == "edge_radius") s.selection.depth_edge_radius_px = v;
-  else if (key == "edge_tol") s.selection.depth_edge_tolerance = v;
-  else if (key == "occ_radius") s.visibility.occlusion_radius_px = v;
-  else if (key == "occ_tol") s.visibility.occlusion_tolerance = v;
-  else if (key == "cell") s.visibility.cell_px = static_cast<int>(v);
-  else if (key == "window") s.tracking.window_px = static_cast<int>(v);
-  else if (key == "levels") s.tracking.pyramid_levels = static_cast<int>(v);
-  else if (key == "fb") s.tracking.max_forward_backward_px = v;
-  else if (key == "derotate") s.tracking.derotate_min_deg = v;
-  else if (key == "max_residual") s.refinement.max_residual_px = v;
-  else if (key == "loss_scale") s.refinement.loss_scale_px = v;
-  else if (key == "ransac_px") s.ransac.threshold_px = v;
-  else if (key == "retrack") s.retrack = v != 0;
-  else return false;
+  if (key == "quality")
+    s.selection.min_corner_quality = v;
+  else if (key == "spacing")
+    s.selection.min_distance_px = v;
+  else if (key == "max_points")
+    s.selection.max_points = static_cast<int>(v);
+  else if (key == "block")
+    s.selection.corner_block_size = static_cast<int>(v);
+  else if (key == "edge_radius")
+    s.selection.depth_edge_radius_px = v;
+  else if (key == "edge_tol")
+    s.selection.depth_edge_tolerance = v;
+  else if (key == "occ_radius")
+    s.visibility.occlusion_radius_px = v;
+  else if (key == "occ_tol")
+    s.visibility.occlusion_tolerance = v;
+  else if (key == "cell")
+    s.visibility.cell_px = static_cast<int>(v);
+  else if (key == "window")
+    s.tracking.window_px = static_cast<int>(v);
+  else if (key == "levels")
+    s.tracking.pyramid_levels = static_cast<int>(v);
+  else if (key == "fb")
+    s.tracking.max_forward_backward_px = v;
+  else if (key == "derotate")
+    s.tracking.derotate_min_deg = v;
+  else if (key == "max_residual")
+    s.refinement.max_residual_px = v;
+  else if (key == "loss_scale")
+    s.refinement.loss_scale_px = v;
+  else if (key == "ransac_px")
+    s.ransac.threshold_px = v;
+  else if (key == "retrack")
+    s.retrack = v != 0;
+  else
+    return false;
   return true;
 }
 
 void PrintResult(const char* label, const FusionOdometryResult& r, double rot_err_deg, double trans_err_mm,
                  double length_err_pct) {
-  std::printf("  %-10s %-13s %5.3f s (select %.3f track %.3f ransac %.3f refine %.3f)  pts %d/%d/%d trk %d "
-              "inl %d  res %.2f px  rot err %.4f deg  t err %.1f mm (%.2f %%)%s%s\n",
-              label, r.status.c_str(), r.seconds, r.seconds_selection, r.seconds_tracking, r.seconds_ransac,
-              r.seconds_refinement, r.projected_points, r.visible_points, r.selected_points, r.tracked_points,
-              r.inliers, r.rms_residual_px, rot_err_deg, trans_err_mm, length_err_pct,
-              r.failure_reason.text.empty() ? "" : "  ", r.failure_reason.text.c_str());
+  std::printf(
+      "  %-10s %-13s %5.3f s (select %.3f track %.3f ransac %.3f refine %.3f)  pts %d/%d/%d trk %d "
+      "inl %d  res %.2f px  rot err %.4f deg  t err %.1f mm (%.2f %%)%s%s\n",
+      label, r.status.c_str(), r.seconds, r.seconds_selection, r.seconds_tracking, r.seconds_ransac,
+      r.seconds_refinement, r.projected_points, r.visible_points, r.selected_points, r.tracked_points, r.inliers,
+      r.rms_residual_px, rot_err_deg, trans_err_mm, length_err_pct, r.failure_reason.text.empty() ? "" : "  ",
+      r.failure_reason.text.c_str());
 }
 
 double RunSim(const std::string& path, int max_stations, int* count) {
@@ -84,7 +103,8 @@ double RunSim(const std::string& path, int max_stations, int* count) {
                 A_true.translation().norm());
     // First iteration: rough guess X0 B X0^-1, not reliable (P3P RANSAC); then the refined one as guess.
     MotionGuess guess{CameraMotionFromLidar(X0, B_true), false};
-    FusionOdometryResult r = EstimateScaledMotion(i.scan, i.image, j.image, *data.camera, data.T_camera_lidar, guess, g_settings);
+    FusionOdometryResult r =
+        EstimateScaledMotion(i.scan, i.image, j.image, *data.camera, data.T_camera_lidar, guess, g_settings);
     auto report = [&](const char* label, const FusionOdometryResult& res) {
       const double t_err = (res.T_ci_cj.translation() - A_true.translation()).norm();
       PrintResult(label, res, RotationErrorDeg(res.T_ci_cj.linear(), A_true.linear()), 1e3 * t_err,
@@ -143,8 +163,9 @@ double RunKitti(int* count) {
     const cv::Mat image_b = cv::imread(fo_test::KittiImagePath(b), cv::IMREAD_UNCHANGED);
     const lidar_icp::RegistrationResult icp = lidar_icp::Register(scan_a, scan_b);
     const Isometry3 A_ref = CameraMotionFromLidar(X, icp.T_li_lj);
-    std::printf(" %02d -> %02d: ICP %s %s, %.3f m, %.3f deg (%.2f s)\n", a, b, icp.usable() ? "ok" : "failed", icp.failure_reason.text.c_str(),
-                icp.T_li_lj.translation().norm(), Deg(RotationAngle(icp.T_li_lj.linear())), icp.seconds);
+    std::printf(" %02d -> %02d: ICP %s %s, %.3f m, %.3f deg (%.2f s)\n", a, b, icp.usable() ? "ok" : "failed",
+                icp.failure_reason.text.c_str(), icp.T_li_lj.translation().norm(),
+                Deg(RotationAngle(icp.T_li_lj.linear())), icp.seconds);
     for (bool reliable : {false, true}) {
       const FusionOdometryResult r =
           EstimateScaledMotion(scan_a, image_a, image_b, *camera, X, MotionGuess{A_ref, reliable}, g_settings);
@@ -162,7 +183,8 @@ double RunKitti(int* count) {
           camera->Project(A_ref.inverse() * c.p_ci, &ref);
           ref_ok += (c.pixel_j - ref).norm() < 2.0;
         }
-        std::printf("    inliers within 2 px of the ICP reference: %d of %zu\n", ref_ok, r.inlier_correspondences.size());
+        std::printf("    inliers within 2 px of the ICP reference: %d of %zu\n", ref_ok,
+                    r.inlier_correspondences.size());
       }
       if (std::getenv("FO_DUMP") && !reliable) {  // overlay: inliers green, residual under A_ref in colour
         cv::Mat vis = image_b.clone();
@@ -192,13 +214,16 @@ int main(int argc, char** argv) {
   int stations = 5;
   bool kitti = true, simulated = true;
   for (int k = 1; k < argc; ++k) {
-    if (!std::strcmp(argv[k], "--no-kitti")) kitti = false;
-    else if (!std::strcmp(argv[k], "--no-sim")) simulated = false;
-    else if (!std::strcmp(argv[k], "--stations") && k + 1 < argc) stations = std::atoi(argv[++k]);
+    if (!std::strcmp(argv[k], "--no-kitti"))
+      kitti = false;
+    else if (!std::strcmp(argv[k], "--no-sim"))
+      simulated = false;
+    else if (!std::strcmp(argv[k], "--stations") && k + 1 < argc)
+      stations = std::atoi(argv[++k]);
     else if (!std::strcmp(argv[k], "--set") && k + 1 < argc) {
       if (!SetOption(argv[++k])) return std::fprintf(stderr, "bad --set %s\n", argv[k]), 2;
-    }
-    else scenario = argv[k];
+    } else
+      scenario = argv[k];
   }
   try {
     if (simulated) {

@@ -190,9 +190,10 @@ Comparison CompareNoisy(int trials) {
 }
 
 void PrintComparison(const Comparison& c, int trials) {
-  std::printf("\nScaled motions: %d trials, 10 motions (10-45 deg about random axes, translations up to 1 m per "
-              "axis), noise 0.05 deg / 5 mm per axis on both sensors\n",
-              trials);
+  std::printf(
+      "\nScaled motions: %d trials, 10 motions (10-45 deg about random axes, translations up to 1 m per "
+      "axis), noise 0.05 deg / 5 mm per axis on both sensors\n",
+      trials);
   PrintHeader();
   for (const auto& e : c.opencv) e.Print();
   c.ours.Print();

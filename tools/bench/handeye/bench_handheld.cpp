@@ -38,10 +38,11 @@ struct Tally {
   void Print(const char* mode, int n) const {
     const Eigen::Array<double, 6, 1> coverage = 100.0 * covered / n;
     const Eigen::Array<double, 6, 1> ratio = (squared_error / n).sqrt() / (std_sum / n);
-    std::printf("%-11s %3d/%-3d  rot %3.0f %3.0f %3.0f %%  rms/std %.2f %.2f %.2f  mean std %.3f deg   "
-                "t %3.0f %3.0f %3.0f %%  rms/std %.2f %.2f %.2f  mean std %.1f mm\n",
-                mode, ok, n, coverage(0), coverage(1), coverage(2), ratio(0), ratio(1), ratio(2), std_sum.head<3>().mean() / n,
-                coverage(3), coverage(4), coverage(5), ratio(3), ratio(4), ratio(5), 1e3 * std_sum.tail<3>().mean() / n);
+    std::printf(
+        "%-11s %3d/%-3d  rot %3.0f %3.0f %3.0f %%  rms/std %.2f %.2f %.2f  mean std %.3f deg   "
+        "t %3.0f %3.0f %3.0f %%  rms/std %.2f %.2f %.2f  mean std %.1f mm\n",
+        mode, ok, n, coverage(0), coverage(1), coverage(2), ratio(0), ratio(1), ratio(2), std_sum.head<3>().mean() / n,
+        coverage(3), coverage(4), coverage(5), ratio(3), ratio(4), ratio(5), 1e3 * std_sum.tail<3>().mean() / n);
   }
 };
 
@@ -58,17 +59,21 @@ int main(int argc, char** argv) {
       }
       return std::atof(argv[++i]);
     };
-    if (!std::strcmp(argv[i], "--seeds")) seeds = static_cast<int>(value());
-    else if (!std::strcmp(argv[i], "--motions")) base.num_motions = static_cast<int>(value());
-    else if (!std::strcmp(argv[i], "--noise")) base.rotation_noise_deg = value();
-    else if (!std::strcmp(argv[i], "--correlation")) base.noise_correlation = value();
+    if (!std::strcmp(argv[i], "--seeds"))
+      seeds = static_cast<int>(value());
+    else if (!std::strcmp(argv[i], "--motions"))
+      base.num_motions = static_cast<int>(value());
+    else if (!std::strcmp(argv[i], "--noise"))
+      base.rotation_noise_deg = value();
+    else if (!std::strcmp(argv[i], "--correlation"))
+      base.noise_correlation = value();
     else {
       std::fprintf(stderr, "usage: bench_handheld [--seeds N] [--motions M] [--noise DEG] [--correlation RHO]\n");
       return 2;
     }
   }
-  std::printf("%d seeds, %d motions, %.2f deg per axis and sensor motion, correlation %.2f\n", seeds,
-              base.num_motions, base.rotation_noise_deg, base.noise_correlation);
+  std::printf("%d seeds, %d motions, %.2f deg per axis and sensor motion, correlation %.2f\n", seeds, base.num_motions,
+              base.rotation_noise_deg, base.noise_correlation);
   std::printf("mode        ok       coverage within 1 std (x y z), rms error / mean std\n");
   Tally per_motion, global, metric;
   for (int seed = 1; seed <= seeds; ++seed) {

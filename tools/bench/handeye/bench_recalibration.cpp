@@ -47,7 +47,8 @@ Calibrator Play(const std::vector<MotionPair>& pairs, int from) {
     Isometry3 direction = p.A;
     direction.translation().normalize();
     calibrator.OnMotion(Motion(SensorMotion::Sensor::kLidar, p.station_i, p.station_j, p.B, false), 0);
-    auto versions = calibrator.OnMotion(Motion(SensorMotion::Sensor::kCamera, p.station_i, p.station_j, direction, false), 0);
+    auto versions =
+        calibrator.OnMotion(Motion(SensorMotion::Sensor::kCamera, p.station_i, p.station_j, direction, false), 0);
     while (!versions.empty() && versions.back().asks()) {
       std::vector<SensorMotion> fused;
       for (const auto& [i, j] : versions.back().used)
@@ -136,16 +137,22 @@ int main(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
     if (i + 1 >= argc) {
-      std::fprintf(stderr, "%s needs a value\nusage: bench_recalibration [--seeds N] [--noise DEG] "
-                   "[--translation-noise M] [--soak PAIRS]\n", argv[i]);
+      std::fprintf(stderr,
+                   "%s needs a value\nusage: bench_recalibration [--seeds N] [--noise DEG] "
+                   "[--translation-noise M] [--soak PAIRS]\n",
+                   argv[i]);
       return 2;
     }
     const std::string key = argv[i];
     const double value = std::atof(argv[++i]);
-    if (key == "--seeds") o.seeds = static_cast<int>(value);
-    else if (key == "--noise") o.rotation_noise_deg = value;
-    else if (key == "--translation-noise") o.translation_noise_m = value;
-    else if (key == "--soak") o.soak = static_cast<int>(value);
+    if (key == "--seeds")
+      o.seeds = static_cast<int>(value);
+    else if (key == "--noise")
+      o.rotation_noise_deg = value;
+    else if (key == "--translation-noise")
+      o.translation_noise_m = value;
+    else if (key == "--soak")
+      o.soak = static_cast<int>(value);
     else {
       std::fprintf(stderr, "unknown option %s\n", key.c_str());
       return 2;
@@ -153,11 +160,13 @@ int main(int argc, char** argv) {
   }
   std::printf("%d pairs, the camera moves during pair %d; noise %.3f deg / %.1f mm per axis and sensor; %d seeds\n\n",
               kPairs, kChangeAt + 1, o.rotation_noise_deg, 1e3 * o.translation_noise_m, o.seeds);
-  std::printf("| change | deg | cm | found | right stations | within 3 pairs | median delay | converged | "
-              "median error deg / mm | fresh loop after the change deg / mm |\n|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| change | deg | cm | found | right stations | within 3 pairs | median delay | converged | "
+      "median error deg / mm | fresh loop after the change deg / mm |\n|---|---|---|---|---|---|---|---|---|---|\n");
   for (const double deg : {0.2, 0.5, 1.0, 3.0}) RunCase(o, "rotation", deg, 0.0);
   for (const double m : {0.005, 0.01, 0.05}) RunCase(o, "translation", 0.0, m);
-  for (const auto& [deg, m] : std::vector<std::pair<double, double>>{{0.5, 0.01}, {3.0, 0.05}}) RunCase(o, "both", deg, m);
+  for (const auto& [deg, m] : std::vector<std::pair<double, double>>{{0.5, 0.01}, {3.0, 0.05}})
+    RunCase(o, "both", deg, m);
   RunFalseAlarms(o);
   return 0;
 }

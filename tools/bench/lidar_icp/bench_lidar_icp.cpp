@@ -150,10 +150,14 @@ int main(int argc, char** argv) {
   std::string kitti = KITTI_SNIPPET_DIR;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--repeat" && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
-    else if (a == "--pcl-voxel" && i + 1 < argc) pcl_voxel = std::atof(argv[++i]);
-    else if (a == "--no-pcl") pcl = false;
-    else if (a == "--kitti" && i + 1 < argc) kitti = argv[++i];
+    if (a == "--repeat" && i + 1 < argc)
+      repeat = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--pcl-voxel" && i + 1 < argc)
+      pcl_voxel = std::atof(argv[++i]);
+    else if (a == "--no-pcl")
+      pcl = false;
+    else if (a == "--kitti" && i + 1 < argc)
+      kitti = argv[++i];
     else {
       std::fprintf(stderr, "usage: %s [--repeat N] [--pcl-voxel M] [--no-pcl] [--kitti DIR]\n", argv[0]);
       return 2;
@@ -166,9 +170,10 @@ int main(int argc, char** argv) {
     return a + " " + b + " " + c;
   };
   std::printf("load average at start: %s\n", load().c_str());
-  std::printf("bench_lidar_icp: ours = fusecal::lidar_icp::Register (best wall time of %d runs), PCL GICP once; "
-              "%u hardware threads\n",
-              repeat, std::thread::hardware_concurrency());
+  std::printf(
+      "bench_lidar_icp: ours = fusecal::lidar_icp::Register (best wall time of %d runs), PCL GICP once; "
+      "%u hardware threads\n",
+      repeat, std::thread::hardware_concurrency());
 
   const std::string f0 = kitti + "/velodyne_points/data/0000000000.bin";
   const std::string f2 = kitti + "/velodyne_points/data/0000000002.bin";
@@ -187,8 +192,10 @@ int main(int argc, char** argv) {
   } motions[] = {{"synthetic room, yaw 5 deg, 0.22 m", 5, 0, {0.2, 0.1, 0.0}},
                  {"synthetic room, yaw 170 + pitch 30 deg", 170, 30, {0.3, -0.4, 0.1}}};
   for (const Motion& m : motions) {
-    const Isometry3 B = fusecal::MakeIsometry(fusecal::RotationFromRpy(0, m.pitch * M_PI / 180, m.yaw * M_PI / 180), m.t);
-    const PointCloud a = fusecal::testing::SimulateScan(room, Isometry3::Identity(), fusecal::testing::Hdl64Pattern(), 0.015, 1);
+    const Isometry3 B =
+        fusecal::MakeIsometry(fusecal::RotationFromRpy(0, m.pitch * M_PI / 180, m.yaw * M_PI / 180), m.t);
+    const PointCloud a =
+        fusecal::testing::SimulateScan(room, Isometry3::Identity(), fusecal::testing::Hdl64Pattern(), 0.015, 1);
     const PointCloud b = fusecal::testing::SimulateScan(room, B, fusecal::testing::Hdl64Pattern(), 0.015, 2);
     Report(m.name, RunAll(a, b, repeat, pcl, pcl_voxel), &B, ToPcl(a), ToPcl(b));
   }

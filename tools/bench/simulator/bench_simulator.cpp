@@ -48,12 +48,11 @@ int main(int argc, char** argv) {
   const auto t2 = Clock::now();
   std::printf("scenario %s: %.1f s of recording, %zu stations\n", path.c_str(), sim.trajectory().duration(),
               sim.Stations().size());
-  std::printf("setup (scene, textures, trajectory): %.2f s\n",
-              std::chrono::duration<double>(t1 - t0).count());
+  std::printf("setup (scene, textures, trajectory): %.2f s\n", std::chrono::duration<double>(t1 - t0).count());
   std::printf("camera: %d images (%d still), %.2f s, %.1f ms/image\n", images, still_images, camera_s,
               1e3 * camera_s / std::max(1, images));
-  std::printf("lidar:  %d scans (%d still), %.2f s, %.1f ms/scan, %.0f points/scan\n", scans, still_scans,
-              lidar_s, 1e3 * lidar_s / std::max(1, scans), static_cast<double>(points) / std::max(1, scans));
+  std::printf("lidar:  %d scans (%d still), %.2f s, %.1f ms/scan, %.0f points/scan\n", scans, still_scans, lidar_s,
+              1e3 * lidar_s / std::max(1, scans), static_cast<double>(points) / std::max(1, scans));
   std::printf("total render time: %.2f s\n", std::chrono::duration<double>(t2 - t1).count());
   return 0;
 }

@@ -74,8 +74,8 @@ RunResult RunScenario(const sim::Scenario& scenario, const StationaritySettings&
       const StationarityState s = detector.State();
       std::printf("%s t=%7.3f truth=%2d phase=%-8s flow=%.3f drift=%.3f change=%.4f ldrift=%.4f still_for=%.2f %s\n",
                   e.type == sim::Event::Type::kCamera ? "IMG " : "SCAN", simulation.ToSeconds(e.utime),
-                  e.type == sim::Event::Type::kCamera ? e.camera.station_id : e.lidar.station_id,
-                  ToString(s.phase), s.image_flow_px, s.image_drift_px, s.lidar_change_m, s.lidar_drift_m, s.still_for_s,
+                  e.type == sim::Event::Type::kCamera ? e.camera.station_id : e.lidar.station_id, ToString(s.phase),
+                  s.image_flow_px, s.image_drift_px, s.lidar_change_m, s.lidar_drift_m, s.still_for_s,
                   s.reason.c_str());
     }
     for (auto& st : out) {
@@ -124,8 +124,8 @@ int main(int argc, char** argv) {
 
   std::printf("bench_stationarity: %s, default settings (min_still_s %.2f)\n", scenario_path.c_str(),
               settings.min_still_s);
-  std::printf("%-6s %-9s %-6s %-8s %-7s %-10s %-13s %-15s\n", "seed", "intervals", "found", "missed",
-              "extra", "in motion", "latency max s", "latency margin");
+  std::printf("%-6s %-9s %-6s %-8s %-7s %-10s %-13s %-15s\n", "seed", "intervals", "found", "missed", "extra",
+              "in motion", "latency max s", "latency margin");
   Timing all_image, all_scan;
   int total_intervals = 0, total_found = 0, total_bad = 0;
   double worst_latency = 0;

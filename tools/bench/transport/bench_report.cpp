@@ -41,9 +41,8 @@ void WriteCsv(const std::string& path, const std::vector<BenchRow>& rows) {
   std::ofstream out(path);
   out << kCsvHeader << '\n';
   for (const auto& row : rows) {
-    out << row.transport << ',' << row.size_bytes << ',' << row.rate_hz << ',' << row.subscriber << ','
-        << row.sent << ',' << row.delivered << ','
-        << (row.delivered > 0 ? Format("%.3f", row.mean_ms) : "") << ','
+    out << row.transport << ',' << row.size_bytes << ',' << row.rate_hz << ',' << row.subscriber << ',' << row.sent
+        << ',' << row.delivered << ',' << (row.delivered > 0 ? Format("%.3f", row.mean_ms) : "") << ','
         << (row.delivered > 0 ? Format("%.3f", row.p99_ms) : "") << ','
         << (row.cpu_pct >= 0 ? Format("%.1f", row.cpu_pct) : "") << '\n';
   }
@@ -56,10 +55,10 @@ std::string MarkdownTable(const std::vector<BenchRow>& rows) {
       "|---|---:|---|---|---:|---:|---:|---:|\n";
   for (const auto& row : rows) {
     const bool any = row.delivered > 0;
-    table += "| " + row.transport + " | " + std::to_string(row.size_bytes) + " | " + RateLabel(row.rate_hz) +
-             " | " + row.subscriber + " | " + std::to_string(row.delivered) + "/" + std::to_string(row.sent) +
-             " | " + (any ? Format("%.2f", row.mean_ms) : "-") + " | " + (any ? Format("%.2f", row.p99_ms) : "-") +
-             " | " + (row.cpu_pct >= 0 ? Format("%.0f", row.cpu_pct) : "-") + " |\n";
+    table += "| " + row.transport + " | " + std::to_string(row.size_bytes) + " | " + RateLabel(row.rate_hz) + " | " +
+             row.subscriber + " | " + std::to_string(row.delivered) + "/" + std::to_string(row.sent) + " | " +
+             (any ? Format("%.2f", row.mean_ms) : "-") + " | " + (any ? Format("%.2f", row.p99_ms) : "-") + " | " +
+             (row.cpu_pct >= 0 ? Format("%.0f", row.cpu_pct) : "-") + " |\n";
   }
   return table;
 }
@@ -90,7 +89,8 @@ std::vector<std::string> SummaryLines(const std::vector<BenchRow>& rows) {
       }
     }
     if (paced_idle.sent + paced_busy.sent + flat.sent == 0) {
-      lines.push_back(transport + ", " + std::to_string(size) + " B: not measured (nothing sent; the reason is on stderr)");
+      lines.push_back(transport + ", " + std::to_string(size) +
+                      " B: not measured (nothing sent; the reason is on stderr)");
       continue;
     }
     std::string rates;
@@ -99,7 +99,8 @@ std::vector<std::string> SummaryLines(const std::vector<BenchRow>& rows) {
     if (!paced_rates.empty())
       line += " " + rates + " Hz delivered " + paced_idle.Delivery() + " idle, " + paced_busy.Delivery() +
               " busy (mean " + paced_idle.MeanLatency() + " idle, " + paced_busy.MeanLatency() + " busy);";
-    if (flat.sent > 0 || flat.delivered > 0) line += " flat out " + flat.Delivery() + " (mean " + flat.MeanLatency() + ");";
+    if (flat.sent > 0 || flat.delivered > 0)
+      line += " flat out " + flat.Delivery() + " (mean " + flat.MeanLatency() + ");";
     line += cpu_max >= 0 ? " CPU " + Format("%.0f", cpu_min) + "-" + Format("%.0f", cpu_max) + "%" : " CPU -";
     lines.push_back(line);
   }
@@ -110,7 +111,8 @@ std::string ProgressLine(int index, int total, const BenchRow& row) {
   std::string line = "[" + std::to_string(index) + "/" + std::to_string(total) + "] " + row.transport + " " +
                      std::to_string(row.size_bytes) + " B " + RateLabel(row.rate_hz) + " " + row.subscriber + ": " +
                      std::to_string(row.delivered) + "/" + std::to_string(row.sent);
-  if (row.delivered > 0) line += ", mean " + Format("%.2f", row.mean_ms) + " ms, p99 " + Format("%.2f", row.p99_ms) + " ms";
+  if (row.delivered > 0)
+    line += ", mean " + Format("%.2f", row.mean_ms) + " ms, p99 " + Format("%.2f", row.p99_ms) + " ms";
   if (row.cpu_pct >= 0) line += ", CPU " + Format("%.0f", row.cpu_pct) + "%";
   return line;
 }

@@ -10,7 +10,7 @@ namespace fusecal::bench {
 
 // One configuration's result: one CSV row.
 struct BenchRow {
-  std::string transport;   // lcm-default, lcm-tuned, dds-udp or dds-shm
+  std::string transport;  // lcm-default, lcm-tuned, dds-udp or dds-shm
   size_t size_bytes = 0;
   int rate_hz = 0;         // 0: flat out
   std::string subscriber;  // idle or busy
@@ -21,7 +21,8 @@ struct BenchRow {
 };
 
 // The CSV header, exactly.
-inline constexpr const char* kCsvHeader = "transport,size_bytes,rate_hz,subscriber,sent,delivered,mean_ms,p99_ms,cpu_pct";
+inline constexpr const char* kCsvHeader =
+    "transport,size_bytes,rate_hz,subscriber,sent,delivered,mean_ms,p99_ms,cpu_pct";
 
 // Writes the CSV (latencies empty when nothing was delivered, cpu_pct empty when not measured). Creates
 // the parent folder. Throws std::runtime_error when the file cannot be written.

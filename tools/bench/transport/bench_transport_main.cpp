@@ -58,13 +58,14 @@ std::vector<Transport> AllTransports(const shm::PoolPlan& plan, int dds_depth) {
   const std::string depth = std::to_string(dds_depth);
   const std::string largest = std::to_string(shm::LargestShmMessage(plan));
   // The iceoryx rows' subscriber queues hold `dds_depth` messages too (the DDS history's counterpart).
-  return {{"lcm-default", "udpm://239.255.76.67:7670?ttl=0", false},
-          {"lcm-tuned", "udpm://239.255.76.67:7671?ttl=0&recv_buf_size=67108864", false},
-          {"dds-udp", "dds://?domain=40&depth=" + depth, false},
-          {"dds-shm", "dds://?domain=41&shm=1&depth=" + depth + "&shm_max=" + largest, true},
+  return {
+      {"lcm-default", "udpm://239.255.76.67:7670?ttl=0", false},
+      {"lcm-tuned", "udpm://239.255.76.67:7671?ttl=0&recv_buf_size=67108864", false},
+      {"dds-udp", "dds://?domain=40&depth=" + depth, false},
+      {"dds-shm", "dds://?domain=41&shm=1&depth=" + depth + "&shm_max=" + largest, true},
 #ifdef FUSECAL_WITH_IOX
-          {"iox", "iox://?depth=" + depth + "&max=" + largest, true},
-          {"iceoryx-raw", "iceoryx-raw://?depth=" + depth, true},
+      {"iox", "iox://?depth=" + depth + "&max=" + largest, true},
+      {"iceoryx-raw", "iceoryx-raw://?depth=" + depth, true},
 #endif
   };
 }
@@ -101,9 +102,10 @@ struct RoudiForBench {
   void Start(const std::string& work_dir, const shm::PoolPlan& plan) {
     if (process || !problem.empty()) return;
     if (!shm::WaitUntilRoudiGone(3)) {
-      problem = "an iceoryx RouDi that this benchmark did not start is already running (socket /tmp/roudi); "
-                "its pools may not fit 6 MB messages, and stopping it would end the processes attached to it. "
-                "Stop it to measure the shared-memory rows.";
+      problem =
+          "an iceoryx RouDi that this benchmark did not start is already running (socket /tmp/roudi); "
+          "its pools may not fit 6 MB messages, and stopping it would end the processes attached to it. "
+          "Stop it to measure the shared-memory rows.";
       return;
     }
     process = std::make_unique<shm::RoudiProcess>(work_dir, plan);
@@ -120,7 +122,8 @@ struct RoudiForBench {
   // Empty while RouDi is up; otherwise why not.
   std::string Check() {
     if (!problem.empty()) return problem;
-    if (process && !process->Alive()) problem = "iox-roudi exited during the benchmark (log: " + process->log_path() + ")";
+    if (process && !process->Alive())
+      problem = "iox-roudi exited during the benchmark (log: " + process->log_path() + ")";
     return problem;
   }
   void Stop() {
@@ -143,8 +146,9 @@ bool SelectTransports(const std::vector<Transport>& all, const std::string& list
     bool known = false;
     for (const auto& t : all) known = known || t.name == name;
     if (!known) {
-      std::fprintf(stderr, "--transports: unknown transport '%s' (lcm-default, lcm-tuned, dds-udp, dds-shm, iox, iceoryx-raw)\n",
-                   name.c_str());
+      std::fprintf(
+          stderr, "--transports: unknown transport '%s' (lcm-default, lcm-tuned, dds-udp, dds-shm, iox, iceoryx-raw)\n",
+          name.c_str());
       return false;
     }
   }
@@ -282,22 +286,25 @@ int RunBenchmark(const std::string& out_path, bool quick, const std::string& tra
 
   std::fprintf(stderr, "transport benchmark: %d configurations on %ld cores%s (work folder %s)\n", run.total,
                sysconf(_SC_NPROCESSORS_ONLN), quick ? ", quick" : "", run.work_dir.c_str());
-  for (const auto& transport : transports) std::fprintf(stderr, "  %-11s %s\n", transport.name.c_str(), transport.url.c_str());
+  for (const auto& transport : transports)
+    std::fprintf(stderr, "  %-11s %s\n", transport.name.c_str(), transport.url.c_str());
   const auto start = std::chrono::steady_clock::now();
   for (const auto& transport : transports)
     if (!MeasureTransport(run, transport)) break;
   run.roudi.Stop();
   std::error_code ignored;
   std::filesystem::remove_all(run.work_dir, ignored);
-  return ReportResults(out_path, run.rows, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return ReportResults(out_path, run.rows,
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"Transport benchmark: LCM (default and tuned buffers) and Cyclone DDS (UDP and "
-               "iceoryx shared memory), 2 and 6 MB messages at 10 Hz, 30 Hz and flat out, idle and busy "
-               "subscriber. Publisher and subscriber are separate processes."};
+  CLI::App app{
+      "Transport benchmark: LCM (default and tuned buffers) and Cyclone DDS (UDP and "
+      "iceoryx shared memory), 2 and 6 MB messages at 10 Hz, 30 Hz and flat out, idle and busy "
+      "subscriber. Publisher and subscriber are separate processes."};
   std::string out_path;
   bool quick = false;
   std::string transport_list;

@@ -86,16 +86,16 @@ class Child {
 };
 
 std::vector<std::string> RoleArgs(const std::string& role, const ProbeConfig& c) {
-  return {"--role",  role,
-          "--url",   c.url,
-          "--channel", c.channel,
-          "--size",  std::to_string(c.size_bytes),
-          "--rate",  std::to_string(c.rate_hz),
-          "--count", std::to_string(c.count),
+  return {"--role",       role,
+          "--url",        c.url,
+          "--channel",    c.channel,
+          "--size",       std::to_string(c.size_bytes),
+          "--rate",       std::to_string(c.rate_hz),
+          "--count",      std::to_string(c.count),
           "--subscriber", c.busy ? "busy" : "idle",
-          "--tag",   std::to_string(c.run_tag),
-          "--dir",   c.dir,
-          "--timeout", std::to_string(c.timeout_s)};
+          "--tag",        std::to_string(c.run_tag),
+          "--dir",        c.dir,
+          "--timeout",    std::to_string(c.timeout_s)};
 }
 
 // The last lines of a child's stderr (transport warnings), each prefixed with `who`.
@@ -157,7 +157,8 @@ Measurement RunConfiguration(const std::string& executable, const ProbeConfig& c
     // processes' CPU over that same window (work on lost messages after it is not counted).
     const int64_t end = std::max(pub.send_end_utime, sub.last_receive_utime);
     const double wall_s = 1e-6 * static_cast<double>(end - pub.send_start_utime);
-    const double cpu_s = CpuBetween(pub.cpu, pub.send_start_utime, end) + CpuBetween(sub.cpu, pub.send_start_utime, end);
+    const double cpu_s =
+        CpuBetween(pub.cpu, pub.send_start_utime, end) + CpuBetween(sub.cpu, pub.send_start_utime, end);
     m.cpu_pct = 100.0 * cpu_s / wall_s;
   }
 
@@ -175,9 +176,9 @@ Measurement RunConfiguration(const std::string& executable, const ProbeConfig& c
     AddNote(m.note, "the subscriber's bus counted " + std::to_string(sub.bus_dropped) + " lost (dropped_messages)");
   if (!subscriber_exited) AddNote(m.note, "subscriber did not stop, killed");
   if (!publisher_exited) AddNote(m.note, "publisher did not stop, killed");
-  if (pub.found && pub.error.empty() && !pub.warmed)
-    AddNote(m.note, "warm-up not confirmed within 10 s (sent anyway)");
-  m.child_output = LogTail(config.dir + "/subscriber.log", "subscriber") + LogTail(config.dir + "/publisher.log", "publisher");
+  if (pub.found && pub.error.empty() && !pub.warmed) AddNote(m.note, "warm-up not confirmed within 10 s (sent anyway)");
+  m.child_output =
+      LogTail(config.dir + "/subscriber.log", "subscriber") + LogTail(config.dir + "/publisher.log", "publisher");
   return m;
 }
 

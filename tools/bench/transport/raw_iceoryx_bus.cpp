@@ -7,9 +7,9 @@
 #include <map>
 #include <vector>
 
-#include "runtime/iox/iceoryx_c.hpp"
 #include "iceoryx_posh/mepoo/chunk_header.hpp"
 #include "runtime/bus_url.hpp"
+#include "runtime/iox/iceoryx_c.hpp"
 #include "runtime/iox/iox_runtime.hpp"
 
 namespace fusecal::bench {
@@ -96,8 +96,8 @@ class RawIceoryxBus : public Bus {
         const auto* header =
             reinterpret_cast<const ::iox::mepoo::ChunkHeader*>(iox_chunk_header_from_user_payload_const(payload));
         try {
-          sub->handler(RawMessage{sub->channel, static_cast<const uint8_t*>(payload), header->userPayloadSize(),
-                                  NowUtime()});
+          sub->handler(
+              RawMessage{sub->channel, static_cast<const uint8_t*>(payload), header->userPayloadSize(), NowUtime()});
         } catch (...) {
           if (!error) error = std::current_exception();
         }

@@ -293,16 +293,15 @@ int RunSubscriber(const ProbeConfig& config) {
     const size_t rank = static_cast<size_t>(std::ceil(0.99 * static_cast<double>(latencies_ms.size())));
     result.p99_ms = latencies_ms[std::max<size_t>(rank, 1) - 1];
   }
-  WriteKeyValues(files.subscriber_result(),
-                 {{"delivered", std::to_string(result.delivered)},
-                  {"mean_ms", Str(result.mean_ms)},
-                  {"p99_ms", Str(result.p99_ms)},
-                  {"cpu_timeline", SerializeTimeline(result.cpu)},
-                  {"last_receive_utime", std::to_string(result.last_receive_utime)},
-                  {"warm", result.warm ? "1" : "0"},
-                  {"shared_memory", result.shared_memory ? "1" : "0"},
-                  {"bus_dropped", std::to_string(result.bus_dropped)},
-                  {"error", OneLine(result.error)}});
+  WriteKeyValues(files.subscriber_result(), {{"delivered", std::to_string(result.delivered)},
+                                             {"mean_ms", Str(result.mean_ms)},
+                                             {"p99_ms", Str(result.p99_ms)},
+                                             {"cpu_timeline", SerializeTimeline(result.cpu)},
+                                             {"last_receive_utime", std::to_string(result.last_receive_utime)},
+                                             {"warm", result.warm ? "1" : "0"},
+                                             {"shared_memory", result.shared_memory ? "1" : "0"},
+                                             {"bus_dropped", std::to_string(result.bus_dropped)},
+                                             {"error", OneLine(result.error)}});
   return 0;
 }
 
@@ -361,14 +360,13 @@ int RunPublisher(const ProbeConfig& config) {
     result.error = e.what();
   }
   result.cpu = cpu.Stop();
-  WriteKeyValues(files.publisher_result(),
-                 {{"sent", std::to_string(result.sent)},
-                  {"cpu_timeline", SerializeTimeline(result.cpu)},
-                  {"send_start_utime", std::to_string(result.send_start_utime)},
-                  {"send_end_utime", std::to_string(result.send_end_utime)},
-                  {"warmed", result.warmed ? "1" : "0"},
-                  {"shared_memory", result.shared_memory ? "1" : "0"},
-                  {"error", OneLine(result.error)}});
+  WriteKeyValues(files.publisher_result(), {{"sent", std::to_string(result.sent)},
+                                            {"cpu_timeline", SerializeTimeline(result.cpu)},
+                                            {"send_start_utime", std::to_string(result.send_start_utime)},
+                                            {"send_end_utime", std::to_string(result.send_end_utime)},
+                                            {"warmed", result.warmed ? "1" : "0"},
+                                            {"shared_memory", result.shared_memory ? "1" : "0"},
+                                            {"error", OneLine(result.error)}});
   return 0;
 }
 

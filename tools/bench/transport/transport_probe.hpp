@@ -36,11 +36,11 @@ struct ProbeConfig {
   std::string url;
   std::string channel = "BENCH_TRANSPORT";
   size_t size_bytes = 0;
-  int rate_hz = 0;      // 0: flat out
-  int count = 0;        // measured messages
-  bool busy = false;    // subscriber away 80 ms of every 100 ms
+  int rate_hz = 0;    // 0: flat out
+  int count = 0;      // measured messages
+  bool busy = false;  // subscriber away 80 ms of every 100 ms
   uint64_t run_tag = 0;
-  std::string dir;      // folder of the marker and result files
+  std::string dir;        // folder of the marker and result files
   double timeout_s = 60;  // each process gives up after this long
 };
 
@@ -66,10 +66,10 @@ using CpuTimeline = std::vector<CpuSample>;  // every 10 ms while measuring, in 
 double CpuBetween(const CpuTimeline& timeline, int64_t from_utime, int64_t to_utime);
 
 struct SubscriberResult {
-  bool found = false;          // the result file was there
-  int delivered = 0;           // distinct measured messages received
+  bool found = false;  // the result file was there
+  int delivered = 0;   // distinct measured messages received
   double mean_ms = 0, p99_ms = 0;
-  CpuTimeline cpu;             // from the warm-up message until the end
+  CpuTimeline cpu;  // from the warm-up message until the end
   int64_t last_receive_utime = 0;
   bool warm = false;           // a warm-up message arrived before the measured ones
   bool shared_memory = false;  // DDS: the bus really uses iceoryx
@@ -79,7 +79,7 @@ struct SubscriberResult {
 
 struct PublisherResult {
   bool found = false;
-  int sent = 0;  // messages PublishRaw accepted
+  int sent = 0;     // messages PublishRaw accepted
   CpuTimeline cpu;  // from the first send until `stop` (covers any resending after the last send)
   int64_t send_start_utime = 0, send_end_utime = 0;
   bool warmed = false;  // the subscriber confirmed a warm-up message

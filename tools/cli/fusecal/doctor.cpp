@@ -7,8 +7,8 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
-#include <stdexcept>
 #include <sstream>
+#include <stdexcept>
 
 #include "runtime/bus.hpp"
 #include "runtime/bus_url.hpp"
@@ -90,21 +90,21 @@ DoctorFinding CheckReceiveBuffer(const std::string& url) {
   if (wanted_text.empty()) {
     f.ok = false;
     f.loses_messages = true;
-    f.detail = "the bus URL sets no recv_buf_size: with the kernel default, multi-megabyte scans and "
-               "images are dropped (measured: 0 of 50 2 MB messages)";
-    f.fix = "add recv_buf_size=67108864 to the bus URL, e.g. "
-            "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=67108864";
+    f.detail =
+        "the bus URL sets no recv_buf_size: with the kernel default, multi-megabyte scans and "
+        "images are dropped (measured: 0 of 50 2 MB messages)";
+    f.fix =
+        "add recv_buf_size=67108864 to the bus URL, e.g. "
+        "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=67108864";
     return f;
   }
   const int64_t wanted = std::atoll(wanted_text.c_str());
   f.ok = rmem_max >= wanted;
   f.loses_messages = !f.ok;
-  f.detail = "net.core.rmem_max = " + std::to_string(rmem_max) + ", the bus asks for " +
-             std::to_string(wanted);
+  f.detail = "net.core.rmem_max = " + std::to_string(rmem_max) + ", the bus asks for " + std::to_string(wanted);
   if (!f.ok)
     f.fix = "sysctl -w net.core.rmem_max=" + std::to_string(wanted) +
-            " (persist: echo net.core.rmem_max=" + std::to_string(wanted) +
-            " > /etc/sysctl.d/60-fusecal.conf)";
+            " (persist: echo net.core.rmem_max=" + std::to_string(wanted) + " > /etc/sysctl.d/60-fusecal.conf)";
   return f;
 }
 
@@ -119,8 +119,8 @@ DoctorFinding CheckRos2ReceiveBuffer(size_t wanted) {
   f.detail = "net.core.rmem_max = " + std::to_string(rmem_max) + ", fusecal-ros2-input asks for " +
              std::to_string(wanted) + " (6 x ros2_input.max_message_mb)";
   if (!f.ok)
-    f.fix = "sysctl -w net.core.rmem_max=" + std::to_string(wanted) + " (persist: echo net.core.rmem_max=" +
-            std::to_string(wanted) + " > /etc/sysctl.d/60-fusecal.conf)";
+    f.fix = "sysctl -w net.core.rmem_max=" + std::to_string(wanted) +
+            " (persist: echo net.core.rmem_max=" + std::to_string(wanted) + " > /etc/sysctl.d/60-fusecal.conf)";
   return f;
 }
 
@@ -159,7 +159,7 @@ DoctorFinding CheckRoudi(const std::string& url) {
   }
   f.detail = running ? "running (socket /tmp/roudi)"
                      : std::string("not running") +
-                           (iox ? ": `fusecal run` starts its own; stand-alone stages on iox:// fail without one"
+                           (iox      ? ": `fusecal run` starts its own; stand-alone stages on iox:// fail without one"
                             : wanted ? ": `fusecal run` starts its own; stand-alone stages with shm=1 would use "
                                        "the network path"
                                      : " (needed by dds://?shm=1 and iox:// only)");
@@ -177,8 +177,8 @@ DoctorFinding CheckLiveRoundTrip(const std::string& url) {
     bus->PublishRaw("FUSECAL_DOCTOR_PROBE", payload.data(), payload.size());
     for (int i = 0; i < 10 && received == 0; ++i) bus->Handle(100);
     f.ok = received == payload.size();
-    f.detail = f.ok ? "a 1 MB message went round " + url : "a 1 MB message published on " + url +
-                                                                " did not come back within 1 s";
+    f.detail = f.ok ? "a 1 MB message went round " + url
+                    : "a 1 MB message published on " + url + " did not come back within 1 s";
   } catch (const std::exception& e) {
     f.ok = false;
     f.detail = e.what();
@@ -205,7 +205,8 @@ DoctorFinding CheckIoxRoundTrip(const std::string& url, std::unique_ptr<shm::Rou
       (*roudi)->LeaveUntilExit();
       std::error_code ignored;  // RouDi has read its config; its log is an open file
       std::filesystem::remove_all(dir, ignored);
-      if (UrlParameter(url, "max").empty()) checked = WithUrlParameter(url, "max", std::to_string(shm::LargestShmMessage(plan)));
+      if (UrlParameter(url, "max").empty())
+        checked = WithUrlParameter(url, "max", std::to_string(shm::LargestShmMessage(plan)));
     } catch (const std::exception& e) {
       f.ok = false;
       f.loses_messages = true;

@@ -8,11 +8,11 @@
 namespace fusecal {
 
 struct DoctorFinding {
-  std::string check;    // e.g. "receive buffer"
+  std::string check;  // e.g. "receive buffer"
   bool ok = true;
   bool loses_messages = false;  // a problem that would drop messages (exit status 1)
-  std::string detail;   // what was found
-  std::string fix;      // the exact command that fixes it (empty when ok)
+  std::string detail;           // what was found
+  std::string fix;              // the exact command that fixes it (empty when ok)
 };
 
 // Runs every check for the given bus URL (empty: the default URL). With `apply_fixes`, runs the fix

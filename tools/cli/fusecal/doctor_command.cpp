@@ -33,8 +33,8 @@ void AddDoctorCommand(CLI::App& app, int* exit_code) {
     bool loses = false, warned = false;
     std::cout << "bus: " << (bus_url.empty() ? DefaultBusUrl() : bus_url) << "\n";
     for (const auto& f : findings) {
-      std::cout << (f.ok ? "  ok       " : (f.loses_messages ? "  PROBLEM  " : "  warning  ")) << f.check
-                << ": " << f.detail << "\n";
+      std::cout << (f.ok ? "  ok       " : (f.loses_messages ? "  PROBLEM  " : "  warning  ")) << f.check << ": "
+                << f.detail << "\n";
       if (!f.ok && !f.fix.empty()) std::cout << "           fix: " << f.fix << "\n";
       loses = loses || (!f.ok && f.loses_messages);
       warned = warned || !f.ok;

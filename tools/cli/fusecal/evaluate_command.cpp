@@ -6,11 +6,11 @@
 #include <optional>
 
 #include "commands.hpp"
-#include "foundation/extrinsic_error.hpp"
-#include "foundation/se3.hpp"
 #include "formats/ground_truth.hpp"
 #include "formats/message_json.hpp"
 #include "formats/result_file.hpp"
+#include "foundation/extrinsic_error.hpp"
+#include "foundation/se3.hpp"
 
 namespace fusecal {
 
@@ -19,7 +19,8 @@ namespace {
 // A result or truth that is NaN, all zeros or not a rotation gives no error worth printing.
 Isometry3 CheckedTransform(const Isometry3& T, const std::string& what, const std::string& path) {
   if (!IsValidTransform(T))
-    throw std::runtime_error(what + " " + path + ": T_camera_lidar is not a rigid transform (non-finite, or its "
+    throw std::runtime_error(what + " " + path +
+                             ": T_camera_lidar is not a rigid transform (non-finite, or its "
                              "rotation is not orthonormal with determinant 1)");
   return T;
 }
@@ -31,10 +32,11 @@ void AddEvaluateCommand(CLI::App& app, int* exit_code) {
   static std::string result_path, truth_path;
   static int64_t at_utime = 0;
   evaluate->add_option("--result", result_path, "result file (YAML with T_camera_lidar)")->required();
-  evaluate->add_option("--truth", truth_path,
-                       "log with GROUND_TRUTH (compared with the extrinsic in force at the log's end; the JSON "
-                       "line gives truth_from_utime, the utime it holds from), or a reference result YAML "
-                       "(no truth_from_utime)")
+  evaluate
+      ->add_option("--truth", truth_path,
+                   "log with GROUND_TRUTH (compared with the extrinsic in force at the log's end; the JSON "
+                   "line gives truth_from_utime, the utime it holds from), or a reference result YAML "
+                   "(no truth_from_utime)")
       ->required();
   auto* at_option = evaluate->add_option("--at-utime", at_utime,
                                          "compare with the log's extrinsic in force at this utime (microseconds) "
@@ -47,10 +49,10 @@ void AddEvaluateCommand(CLI::App& app, int* exit_code) {
           ReadReference(truth_path, at_option->count() ? std::optional<int64_t>(at_utime) : std::nullopt);
       const Isometry3 truth = CheckedTransform(reference.T_camera_lidar, "--truth", truth_path);
       const ExtrinsicError e = CompareExtrinsics(estimate, truth);
-      OrderedJson line{{"rot_err_deg", e.rotation_deg},
-                       {"trans_err_m", e.translation_m},
-                       {"trans_err_xyz_m", {e.translation_xyz_m.x(), e.translation_xyz_m.y(),
-                                            e.translation_xyz_m.z()}}};
+      OrderedJson line{
+          {"rot_err_deg", e.rotation_deg},
+          {"trans_err_m", e.translation_m},
+          {"trans_err_xyz_m", {e.translation_xyz_m.x(), e.translation_xyz_m.y(), e.translation_xyz_m.z()}}};
       if (reference.from_utime) line["truth_from_utime"] = *reference.from_utime;
       if (result.unobservable_direction) {
         // Only the part the motions observed (docs/design.md section 1, step 6) can be compared.

@@ -10,9 +10,9 @@
 
 #include "commands.hpp"
 #include "handeye/global_scale.hpp"
-#include "handeye/segmented_solve.hpp"
 #include "handeye/node/motion_csv.hpp"
 #include "handeye/node/result_conversion.hpp"
+#include "handeye/segmented_solve.hpp"
 
 namespace fusecal {
 
@@ -22,15 +22,15 @@ void PrintSummary(const CalibrationResult& r) {
   const Eigen::Vector3d t = r.T_camera_lidar.translation();
   const Eigen::Vector3d rpy = RpyFromRotation(r.T_camera_lidar.linear()) * 180.0 / M_PI;
   std::cout << std::fixed << std::setprecision(4);
-  std::cout << "T_camera_lidar: translation [" << t.x() << ", " << t.y() << ", " << t.z() << "] m, rpy ["
-            << rpy.x() << ", " << rpy.y() << ", " << rpy.z() << "] deg\n";
+  std::cout << "T_camera_lidar: translation [" << t.x() << ", " << t.y() << ", " << t.z() << "] m, rpy [" << rpy.x()
+            << ", " << rpy.y() << ", " << rpy.z() << "] deg\n";
   if (r.covariance) {
     const Eigen::Vector3d sr = RotationStdDevDeg(*r.covariance), st = TranslationStdDevM(*r.covariance);
-    std::cout << "std dev: rotation [" << sr.x() << ", " << sr.y() << ", " << sr.z() << "] deg, translation ["
-              << st.x() << ", " << st.y() << ", " << st.z() << "] m\n";
+    std::cout << "std dev: rotation [" << sr.x() << ", " << sr.y() << ", " << sr.z() << "] deg, translation [" << st.x()
+              << ", " << st.y() << ", " << st.z() << "] m\n";
   }
-  std::cout << "status: " << r.status << ", observability: " << r.observability << ", motions used: "
-            << r.motions_used.size() << ", rejected: " << r.motions_rejected.size() << "\n";
+  std::cout << "status: " << r.status << ", observability: " << r.observability
+            << ", motions used: " << r.motions_used.size() << ", rejected: " << r.motions_rejected.size() << "\n";
   for (const auto& rejected : r.motions_rejected) std::cout << "  rejected " << rejected << "\n";
 }
 
@@ -44,8 +44,8 @@ std::vector<ExtrinsicChangeRecord> ChangeRecords(const SegmentedSolve& solved) {
   for (size_t k = 0; k < solved.changes.size(); ++k) {
     const ExtrinsicChange& c = solved.changes[k];
     const HandEyeResult& after = solved.segments[k + 1].result;
-    ExtrinsicChangeRecord r = MakeChangeRecord(c.after_station, c.decided_at_station, c.T_before,
-                                               c.covariance_before, after.T_camera_lidar, after.covariance);
+    ExtrinsicChangeRecord r = MakeChangeRecord(c.after_station, c.decided_at_station, c.T_before, c.covariance_before,
+                                               after.T_camera_lidar, after.covariance);
     if (!after.usable())  // no size without a solve of the part after it
       r.rotation_deg = r.rotation_std_deg = r.translation_m = r.translation_std_m = std::nan("");
     records.push_back(r);
@@ -74,8 +74,9 @@ void Report(const SegmentedSolve& solved, const std::string& out, bool all) {
     if (!last && !all) continue;
     file.changes = std::vector<ExtrinsicChangeRecord>(records.begin(), records.begin() + std::min(k, records.size()));
     const std::string path =
-        last ? out : out.substr(0, out.rfind(".yaml") == std::string::npos ? out.size() : out.rfind(".yaml")) +
-                         "-part" + std::to_string(k + 1) + ".yaml";
+        last ? out
+             : out.substr(0, out.rfind(".yaml") == std::string::npos ? out.size() : out.rfind(".yaml")) + "-part" +
+                   std::to_string(k + 1) + ".yaml";
     WriteResultFile(path, file);
     std::cout << "wrote " << path << "\n";
   }

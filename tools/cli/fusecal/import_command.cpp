@@ -3,12 +3,12 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "formats/camera_file.hpp"
 #include "importers/folder.hpp"
 #include "importers/ishikawa.hpp"
 #include "importers/kitti.hpp"
-#include "progress.hpp"
 #include "importers/rosbag.hpp"
-#include "formats/camera_file.hpp"
+#include "progress.hpp"
 
 namespace fusecal {
 
@@ -28,7 +28,8 @@ int Report(const std::string& out, const std::function<ImportReport()>& run) {
 }
 
 void AddRosbagImport(CLI::App& import, int* exit_code) {
-  auto* rosbag = import.add_subcommand("rosbag", "ROS 1 or ROS 2 bag: sensor_msgs Image/CompressedImage, PointCloud2, CameraInfo");
+  auto* rosbag =
+      import.add_subcommand("rosbag", "ROS 1 or ROS 2 bag: sensor_msgs Image/CompressedImage, PointCloud2, CameraInfo");
   static std::string bag_path, bag_out, bag_camera;
   static RosbagImportOptions options;
   rosbag->add_option("BAG", bag_path, "a ROS 1 .bag, or a ROS 2 bag folder, .mcap or .db3")->required();
@@ -93,8 +94,7 @@ void AddImportCommands(CLI::App& app, int* exit_code) {
   ishikawa->add_option("--out", ishikawa_out, "LCM log to write")->required();
   ishikawa->callback([exit_code] {
     ProgressLine progress("importing " + ishikawa_dir);
-    *exit_code =
-        Report(ishikawa_out, [&] { return ImportIshikawa(ishikawa_dir, ishikawa_out, std::ref(progress)); });
+    *exit_code = Report(ishikawa_out, [&] { return ImportIshikawa(ishikawa_dir, ishikawa_out, std::ref(progress)); });
   });
   AddRosbagImport(*import, exit_code);
 }

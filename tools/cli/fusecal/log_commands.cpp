@@ -4,9 +4,9 @@
 #include <map>
 
 #include "commands.hpp"
+#include "formats/message_json.hpp"
 #include "runtime/channel_pattern.hpp"
 #include "runtime/lcm_log.hpp"
-#include "formats/message_json.hpp"
 
 namespace fusecal {
 
@@ -46,12 +46,11 @@ int LogInfo(const std::string& path) {
   std::cout << "log:       " << path << "\n";
   std::cout << "events:    " << events << "\n";
   std::cout << "bytes:     " << bytes << "\n";
-  std::cout << "time span: " << (events ? double(last - first) * 1e-6 : 0.0) << " s (utime " << first
-            << " .. " << last << ")\n";
+  std::cout << "time span: " << (events ? double(last - first) * 1e-6 : 0.0) << " s (utime " << first << " .. " << last
+            << ")\n";
   std::cout << "channels:\n";
   for (const auto& [name, s] : channels)
-    std::cout << "  " << name << "  count=" << s.count << "  type=" << s.type << "  bytes=" << s.bytes
-              << "\n";
+    std::cout << "  " << name << "  count=" << s.count << "  type=" << s.type << "  bytes=" << s.bytes << "\n";
   if (events == 0) {
     std::cerr << "fusecal log: " << path << ": no events (an empty file, or not an LCM event log)\n";
     ReportProblems(reader);

@@ -46,9 +46,10 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
                 "calibrate a running ROS 2 robot: its sensor topics (config section ros2_input) in, the "
                 "extrinsic out on rt/tf_static and in extrinsic.yaml at each converged version, until Ctrl-C");
   cmd->add_option("--bus", options.bus_url, "bus URL (default: the config's)");
-  auto* stages_option = cmd->add_option("--stages", stages,
-                  "start only these stages, e.g. fusion_odometry,handeye; the others run on other hosts on the "
-                  "same bus (without --log: ends when the host playing the log is done)");
+  auto* stages_option =
+      cmd->add_option("--stages", stages,
+                      "start only these stages, e.g. fusion_odometry,handeye; the others run on other hosts on the "
+                      "same bus (without --log: ends when the host playing the log is done)");
   cmd->add_option("--out", options.out_dir, "output folder")->required();
   cmd->callback([exit_code, stages_option] {
     if (const std::string problem = ProblemWithOptions(options); !problem.empty()) {

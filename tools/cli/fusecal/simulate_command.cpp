@@ -11,11 +11,11 @@
 #include <limits>
 
 #include "commands.hpp"
+#include "formats/conversions.hpp"
 #include "fusecal/ground_truth_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "progress.hpp"
 #include "runtime/channels.hpp"
-#include "formats/conversions.hpp"
 #include "runtime/lcm_log.hpp"
 #include "simulator/simulation.hpp"
 
@@ -101,8 +101,10 @@ void Simulate(const std::string& scenario_path, const std::string& out, std::opt
     const auto stations = sim.Stations();
     ProgressLine progress("simulating stations");
     for (const auto& s : stations) {
-      const auto camera = sim.RenderCameraFrame(NearestFrame(sim.camera_times(), t0, s.still_from_utime, s.still_to_utime));
-      const auto lidar = sim.RenderLidarFrame(NearestFrame(sim.lidar_times(), t0, s.still_from_utime, s.still_to_utime));
+      const auto camera =
+          sim.RenderCameraFrame(NearestFrame(sim.camera_times(), t0, s.still_from_utime, s.still_to_utime));
+      const auto lidar =
+          sim.RenderLidarFrame(NearestFrame(sim.lidar_times(), t0, s.still_from_utime, s.still_to_utime));
       station_t station{};
       station.utime = std::max(camera.utime, lidar.utime);
       station.id = s.id;

@@ -9,16 +9,16 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "commands.hpp"
+#include "formats/camera_file.hpp"
+#include "formats/conversions.hpp"
+#include "formats/message_json.hpp"
+#include "formats/result_file.hpp"
 #include "fusecal/camera_info_t.hpp"
 #include "fusecal/image_t.hpp"
 #include "fusecal/point_cloud_t.hpp"
 #include "pipeline/pipeline_config.hpp"
-#include "formats/camera_file.hpp"
 #include "runtime/channels.hpp"
-#include "formats/conversions.hpp"
 #include "runtime/lcm_log.hpp"
-#include "formats/message_json.hpp"
-#include "formats/result_file.hpp"
 #include "scan_io/scan_io.hpp"
 
 namespace fusecal {
@@ -63,8 +63,11 @@ void AddRegisterCommand(CLI::App& app, int* exit_code) {
       const PointCloud a = ReadScan(scan_a);  // in order, so that a missing file is named first
       const PointCloud b = ReadScan(scan_b);
       const auto r = lidar_icp::Register(a, b, settings);
-      OrderedJson line{{"T_a_b", RowMajor(r.T_li_lj)}, {"converged", r.usable()}, {"fitness", r.fitness},
-                       {"rmse_m", r.inlier_rms_m}, {"seconds", r.seconds}};
+      OrderedJson line{{"T_a_b", RowMajor(r.T_li_lj)},
+                       {"converged", r.usable()},
+                       {"fitness", r.fitness},
+                       {"rmse_m", r.inlier_rms_m},
+                       {"seconds", r.seconds}};
       if (!r.usable()) line["reason"] = r.failure_reason.text;
       std::cout << line.dump() << "\n";
       if (!r.usable())
@@ -113,8 +116,8 @@ void AddFusionMotionCommand(CLI::App& app, int* exit_code) {
       const Isometry3 X = ReadResultFile(fm_extrinsic).T_camera_lidar;
       const auto r = fusion_odometry::EstimateScaledMotion(ReadScan(fm_scan), ReadImage(fm_image_i),
                                                            ReadImage(fm_image_j), *camera, X);
-      OrderedJson line{{"T_i_j", RowMajor(r.T_ci_cj)}, {"converged", r.usable()}, {"inliers", r.inliers},
-                       {"seconds", r.seconds}};
+      OrderedJson line{
+          {"T_i_j", RowMajor(r.T_ci_cj)}, {"converged", r.usable()}, {"inliers", r.inliers}, {"seconds", r.seconds}};
       if (!r.usable()) line["reason"] = r.failure_reason.text;
       std::cout << line.dump() << "\n";
       return r.usable() ? 0 : 1;
@@ -141,11 +144,13 @@ int PrintStations(const std::string& log, const std::string& config) {
     try {
       if (event->channel == channels::kCameraImage) {
         image_t msg{};
-        if (msg.decode(event->data.data(), 0, static_cast<int>(event->data.size())) < 0) throw std::runtime_error("corrupt image_t");
+        if (msg.decode(event->data.data(), 0, static_cast<int>(event->data.size())) < 0)
+          throw std::runtime_error("corrupt image_t");
         for (const auto& s : detector.AddImage(msg.utime, ImageToMat(msg))) print(s);
       } else if (event->channel == channels::kLidarScan) {
         point_cloud_t msg{};
-        if (msg.decode(event->data.data(), 0, static_cast<int>(event->data.size())) < 0) throw std::runtime_error("corrupt point_cloud_t");
+        if (msg.decode(event->data.data(), 0, static_cast<int>(event->data.size())) < 0)
+          throw std::runtime_error("corrupt point_cloud_t");
         for (const auto& s : detector.AddScan(msg.utime, CloudFromMsg(msg))) print(s);
       }
     } catch (const std::exception& e) {
@@ -165,9 +170,8 @@ void AddStationsCommand(CLI::App& app, int* exit_code) {
   auto* st = app.add_subcommand("stations", "the stops of a recording that become stations");
   st->add_option("LOG", stations_log, "LCM log with CAMERA_IMAGE and LIDAR_SCAN")->required();
   st->add_option("--config", stations_config, "pipeline config (its stationarity section)");
-  st->callback([exit_code] {
-    Guard("stations", exit_code, [] { return PrintStations(stations_log, stations_config); });
-  });
+  st->callback(
+      [exit_code] { Guard("stations", exit_code, [] { return PrintStations(stations_log, stations_config); }); });
 }
 
 }  // namespace

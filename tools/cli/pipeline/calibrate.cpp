@@ -84,8 +84,8 @@ CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out
       config.stations_from == "detector" || (config.stations_from == "auto" && !LogHasStations(log_path));
   auto bus = MakeBus("memq://");
   PipelineConfig in_process = config;
-  in_process.handeye.retry_s = 0;  // memq loses nothing; retries would only make runs differ
-  in_process.fusion_odometry.input_wait_s = 0;  // memq keeps the order: what is missing never comes
+  in_process.handeye.retry_s = 0;                          // memq loses nothing; retries would only make runs differ
+  in_process.fusion_odometry.input_wait_s = 0;             // memq keeps the order: what is missing never comes
   SessionRecord session(*bus, out_dir, RecordSettings{});  // the stations: the input log has the raw frames
   std::vector<NamedNode> nodes = MakeStageNodes(in_process, use_detector);
   for (auto& n : nodes) n.node->Start(*bus);

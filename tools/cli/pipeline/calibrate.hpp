@@ -14,8 +14,8 @@ namespace fusecal {
 struct CalibrateReport {
   CalibrationOutputs outputs;
   StageCounters stage_counters;  // each stage's last STATUS counters (busy_s, ...; stages.csv)
-  double span_s = 0;                            // recording span: first to last event fed
-  double outputs_seconds = 0;                   // writing extrinsic.yaml, pictures, cloud
+  double span_s = 0;             // recording span: first to last event fed
+  double outputs_seconds = 0;    // writing extrinsic.yaml, pictures, cloud
   double total_seconds = 0;
   int stations = 0;
 };

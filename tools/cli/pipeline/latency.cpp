@@ -19,7 +19,6 @@ int64_t StationEnd(const SessionRecord& session, const StationTimes& station) {
   return station.still_to_utime;
 }
 
-
 }  // namespace
 
 std::vector<StationLatency> StationLatencies(const SessionRecord& session, int64_t first_log_utime,
@@ -84,8 +83,10 @@ std::string WriteLatencyTable(const std::string& dir, const std::vector<StationL
     std::snprintf(line, sizeof(line), "%d,%.3f,", l.station, l.end_s);
     file << line;
     auto write = [&](int version, double latency) {
-      if (version >= 0) std::snprintf(line, sizeof(line), "%d,%.3f", version, latency);
-      else std::snprintf(line, sizeof(line), "-1,");
+      if (version >= 0)
+        std::snprintf(line, sizeof(line), "%d,%.3f", version, latency);
+      else
+        std::snprintf(line, sizeof(line), "-1,");
       file << line;
     };
     write(l.version, l.latency_s);

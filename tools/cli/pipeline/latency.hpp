@@ -17,7 +17,7 @@ namespace fusecal {
 
 struct StationLatency {
   int station = -1;
-  double end_s = 0;       // end of the station, seconds from the start of the recording
+  double end_s = 0;         // end of the station, seconds from the start of the recording
   int version = -1;         // the first EXTRINSIC that used or rejected a motion ending there; -1: none
   double latency_s = 0;     // receipt of that version - end of the station (wall clock)
   int scaled_version = -1;  // the first scaled EXTRINSIC that used such a motion; -1: none

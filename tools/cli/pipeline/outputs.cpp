@@ -10,9 +10,9 @@
 
 #include "formats/conversions.hpp"
 #include "formats/extrinsic_status.hpp"
+#include "foundation/extrinsic_error.hpp"
 #include "foundation/extrinsic_verdict.hpp"
 #include "runtime/output_file.hpp"
-#include "foundation/extrinsic_error.hpp"
 #include "visualization/overlay.hpp"
 
 namespace fusecal {
@@ -43,9 +43,11 @@ CalibrationResult ResultFromMessage(const extrinsic_t& e) {
   for (int k = 0; k < e.num_used; ++k)
     r.motions_used.push_back(std::to_string(e.used_station_i[k]) + "-" + std::to_string(e.used_station_j[k]));
   for (int k = 0; k < e.num_rejected; ++k)
-    r.motions_rejected.push_back(std::to_string(e.rejected_station_i[k]) + "-" + std::to_string(e.rejected_station_j[k]));
+    r.motions_rejected.push_back(std::to_string(e.rejected_station_i[k]) + "-" +
+                                 std::to_string(e.rejected_station_j[k]));
   r.residual_rms = e.residual_rms;
-  const Eigen::Vector3d direction(e.unobservable_direction[0], e.unobservable_direction[1], e.unobservable_direction[2]);
+  const Eigen::Vector3d direction(e.unobservable_direction[0], e.unobservable_direction[1],
+                                  e.unobservable_direction[2]);
   if (direction.allFinite() && direction.norm() > 0.5) r.unobservable_direction = direction.normalized();
   r.extra["version"] = std::to_string(e.version);
   r.extra["iterations"] = std::to_string(e.iteration);
@@ -88,13 +90,16 @@ void WriteConvergence(const SessionRecord& session, const std::optional<Isometry
   const std::string png = dir + "/convergence.png";
   std::ostringstream script;
   script << "set terminal pngcairo size 900,500 noenhanced\nset output '" << png << "'\n"
-         << "set datafile separator ','; set key outside bottom center; set key autotitle columnhead; set xlabel 'extrinsic version';"
+         << "set datafile separator ','; set key outside bottom center; set key autotitle columnhead; set xlabel "
+            "'extrinsic version';"
          << "set logscale y; set format y '%g'; set grid;";
   // Scaled estimates (the alternation) and scaleless ones apart; zero changes are not drawn.
-  const std::string changes = "'' using 1:($5>0?$5:1/0) with points pt 2 title 'rotation change per iteration (deg)', "
-                              "'' using 1:($6>0?$6*100:1/0) with points pt 4 title 'translation change per iteration (cm)'";
+  const std::string changes =
+      "'' using 1:($5>0?$5:1/0) with points pt 2 title 'rotation change per iteration (deg)', "
+      "'' using 1:($6>0?$6*100:1/0) with points pt 4 title 'translation change per iteration (cm)'";
   if (truth)
-    script << "set ylabel 'error'; plot '" << csv << "' using 1:($4==1?$7:1/0) with linespoints title 'rotation error (deg)', "
+    script << "set ylabel 'error'; plot '" << csv
+           << "' using 1:($4==1?$7:1/0) with linespoints title 'rotation error (deg)', "
            << "'' using 1:($4==1?$8*100:1/0) with linespoints title 'translation error (cm)', "
            << "'' using 1:($4==0?$8*100:1/0) with points pt 6 title 'scaleless translation error (cm)', " << changes;
   else
@@ -153,7 +158,10 @@ void WriteColoredCloud(const SessionRecord& session, const Isometry3& X, const s
   try {
     const cv::Mat image = ImageToMat(station.image);
     cv::Mat bgr;
-    if (image.channels() == 1) cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR); else bgr = image;
+    if (image.channels() == 1)
+      cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
+    else
+      bgr = image;
     const PointCloud cloud = CloudFromMsg(station.cloud);
     const auto camera = MakeCameraModel(CameraFromMsg(station.camera));
     std::vector<std::pair<Eigen::Vector3f, cv::Vec3b>> points;
@@ -199,8 +207,8 @@ CalibrationOutputs WriteCalibrationOutputs(const SessionRecord& session, const s
     if (truth) {
       out.final_error = CompareExtrinsics(out.final_result.T_camera_lidar, *truth);
       if (out.final_result.unobservable_direction)
-        out.observable_error = CompareObservablePart(out.final_result.T_camera_lidar, *truth,
-                                                     *out.final_result.unobservable_direction);
+        out.observable_error =
+            CompareObservablePart(out.final_result.T_camera_lidar, *truth, *out.final_result.unobservable_direction);
       if (initial) out.initial_error = CompareExtrinsics(out.initial_result.T_camera_lidar, *truth);
     }
   } else {
@@ -244,8 +252,8 @@ std::string SummaryText(const CalibrationOutputs& o, const std::string& dir) {
       << rpy.y() << ", " << rpy.z() << "] deg\n";
     if (r.covariance) {
       const Eigen::Vector3d sr = RotationStdDevDeg(*r.covariance), st = TranslationStdDevM(*r.covariance);
-      s << "std dev: rotation [" << sr.x() << ", " << sr.y() << ", " << sr.z() << "] deg, translation ["
-        << st.x() << ", " << st.y() << ", " << st.z() << "] m\n";
+      s << "std dev: rotation [" << sr.x() << ", " << sr.y() << ", " << sr.z() << "] deg, translation [" << st.x()
+        << ", " << st.y() << ", " << st.z() << "] m\n";
     }
   }
   if (o.final_error)
@@ -253,8 +261,8 @@ std::string SummaryText(const CalibrationOutputs& o, const std::string& dir) {
       << o.final_error->translation_m * 100 << " cm\n";
   if (o.observable_error) {
     const Eigen::Vector3d& d = *r.unobservable_direction;
-    s << "observable part vs ground truth: the LiDAR directions seen along camera [" << d.x() << ", " << d.y()
-      << ", " << d.z() << "] differ by " << o.observable_error->direction_deg << " deg";
+    s << "observable part vs ground truth: the LiDAR directions seen along camera [" << d.x() << ", " << d.y() << ", "
+      << d.z() << "] differ by " << o.observable_error->direction_deg << " deg";
     if (r.observability == Name(Observability::kTranslationPartlyUnobservable))
       s << "; translation perpendicular to it " << o.observable_error->translation_perpendicular_m.norm() * 100
         << " cm";
@@ -265,7 +273,8 @@ std::string SummaryText(const CalibrationOutputs& o, const std::string& dir) {
       << o.initial_error->translation_m * 100 << " cm\n";
   if (r.extra.count("message")) s << r.extra.at("message") << "\n";
   for (const auto& w : o.warnings) s << "warning: " << w << "\n";
-  s << "outputs in " << dir << "/ (extrinsic.yaml, convergence.csv/png, overlay-*.png, colored_cloud.ply, session.lcmlog)\n";
+  s << "outputs in " << dir
+    << "/ (extrinsic.yaml, convergence.csv/png, overlay-*.png, colored_cloud.ply, session.lcmlog)\n";
   return s.str();
 }
 

@@ -11,9 +11,9 @@
 #include <optional>
 #include <string>
 
+#include "formats/result_file.hpp"
 #include "foundation/extrinsic_error.hpp"
 #include "pipeline/session.hpp"
-#include "formats/result_file.hpp"
 
 namespace fusecal {
 
@@ -21,7 +21,7 @@ struct CalibrationOutputs {
   bool has_result = false;
   CalibrationResult final_result, initial_result;
   std::optional<ExtrinsicError> final_error, initial_error;  // against ground truth, when known
-  std::optional<ObservableError> observable_error;          // when the result names an unobservable direction
+  std::optional<ObservableError> observable_error;           // when the result names an unobservable direction
   std::vector<std::string> files;
   std::vector<std::string> warnings;  // e.g. gnuplot missing, a file that could not be written
   bool result_file_written = false;   // extrinsic.yaml

@@ -6,10 +6,10 @@
 #include "camera_frontend/node/camera_frontend_node.hpp"
 #include "fusion_odometry/node/fusion_odometry_node.hpp"
 #include "handeye/node/handeye_node.hpp"
-#include "ros2_input/node/ros2_input_settings.hpp"
-#include "ros2_tf/node/ros2_tf_settings.hpp"
 #include "lidar_icp/node/lidar_icp_node.hpp"
 #include "pipeline/session_log.hpp"
+#include "ros2_input/node/ros2_input_settings.hpp"
+#include "ros2_tf/node/ros2_tf_settings.hpp"
 #include "stationarity/node/stationarity_node.hpp"
 
 namespace fusecal {

@@ -5,18 +5,18 @@
 #include <set>
 #include <thread>
 
+#include "formats/extrinsic_status.hpp"
+#include "formats/result_file.hpp"
 #include "fusecal/motion_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "pipeline/session.hpp"
 #include "runtime/bus_url.hpp"
-#include "runtime/shm_transport.hpp"
-#include "runtime/supervisor.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
+#include "runtime/shm_transport.hpp"
 #include "runtime/stage_main.hpp"
-#include "formats/extrinsic_status.hpp"
-#include "formats/result_file.hpp"
+#include "runtime/supervisor.hpp"
 
 namespace fusecal {
 
@@ -81,8 +81,9 @@ class PipelineRun {
         event_(event),
         player_(!options.log_path.empty()),
         url_(CheckedBusUrl(options.bus_url.empty() ? config.bus_url : options.bus_url)),
-        use_detector_(config.stations_from == "detector" ||
-                      (config.stations_from == "auto" && (options.log_path.empty() || !LogHasStations(options.log_path)))),
+        use_detector_(
+            config.stations_from == "detector" ||
+            (config.stations_from == "auto" && (options.log_path.empty() || !LogHasStations(options.log_path)))),
         // With shm=1 or iox://, RouDi is started here and the coordinator stays off shared memory
         // (shm_transport.hpp).
         transport_(url_, config.max_message_bytes, config.shm_chunks, options.out_dir, event),
@@ -129,12 +130,14 @@ class PipelineRun {
     for (const auto& name : names_) {
       std::string exe = name;
       std::replace(exe.begin(), exe.end(), '_', '-');
-      supervisor_.Add({name, ExecutableDir() + "/fusecal-" + exe, {"--config", config_.path, "--bus", transport_.stage_url()}});
+      supervisor_.Add(
+          {name, ExecutableDir() + "/fusecal-" + exe, {"--config", config_.path, "--bus", transport_.stage_url()}});
     }
     // iox://: the coordinator's bus and the stages' are joined by a bridge process, supervised like a stage
     // (it sends no heartbeat and is never given the stations).
     if (transport_.needs_bridge()) {
-      supervisor_.Add({kBridgeName, ExecutableDir() + "/fusecal-bus-bridge",
+      supervisor_.Add({kBridgeName,
+                       ExecutableDir() + "/fusecal-bus-bridge",
                        {"--coordinator", transport_.coordinator_url(), "--stages", transport_.stage_url()}});
       event_("the coordinator is on " + transport_.coordinator_url() + ", bridged to the stages' " +
              transport_.stage_url() + " by fusecal-bus-bridge");
@@ -148,8 +151,8 @@ class PipelineRun {
     const auto& in = config_.ros2_input;
     event_("calibrating from ROS 2 domain " + std::to_string(in.domain) + ": " + in.image_topic + ", " +
            in.cloud_topic + (in.camera_file.empty() ? ", " + in.CameraInfoTopic() : ", camera " + in.camera_file) +
-           "; the extrinsic goes to rt/tf_static (domain " + std::to_string(config_.ros2_tf.domain) +
-           ") and " + options_.out_dir + "/extrinsic.yaml (Ctrl-C to stop)");
+           "; the extrinsic goes to rt/tf_static (domain " + std::to_string(config_.ros2_tf.domain) + ") and " +
+           options_.out_dir + "/extrinsic.yaml (Ctrl-C to stop)");
     if (config_.ros2_tf.domain != in.domain)
       event_("note: ros2_tf.domain (" + std::to_string(config_.ros2_tf.domain) + ") differs from ros2_input.domain (" +
              std::to_string(in.domain) + ")");
@@ -171,7 +174,8 @@ class PipelineRun {
     written_version_ = e->version;
     try {
       WriteResultFile(options_.out_dir + "/extrinsic.yaml", ResultFromMessage(*e));
-      event_("version " + std::to_string(e->version) + " converged: written to " + options_.out_dir + "/extrinsic.yaml");
+      event_("version " + std::to_string(e->version) + " converged: written to " + options_.out_dir +
+             "/extrinsic.yaml");
     } catch (const std::exception& error) {
       event_(std::string("cannot write the result: ") + error.what());
     }
@@ -306,7 +310,8 @@ class PipelineRun {
       if (first_utime_ < 0) first_utime_ = ev->utime;
       last_utime_ = std::max(last_utime_, ev->utime);
       if (options_.speed > 0) {
-        const auto due = replay_start_ + std::chrono::microseconds(int64_t((ev->utime - first_utime_) / options_.speed));
+        const auto due =
+            replay_start_ + std::chrono::microseconds(int64_t((ev->utime - first_utime_) / options_.speed));
         Pump(std::chrono::duration<double>(due - Clock::now()).count(), nullptr);
       }
       if (ResupplyPending()) Pump(config_.idle_timeout_s, [&] { return !ResupplyPending(); });
@@ -409,7 +414,7 @@ class PipelineRun {
   std::string last_progress_;
   int stations_published_ = 0;
   size_t stations_played_ = 0;  // STATION events of the log published (stations from the log)
-  int written_version_ = -1;  // ros2: the last converged version written to extrinsic.yaml
+  int written_version_ = -1;    // ros2: the last converged version written to extrinsic.yaml
   Clock::time_point replay_start_, last_player_status_;
   int64_t replay_start_wall_utime_ = 0;
   int64_t first_utime_ = -1, last_utime_ = -1;  // of the events played

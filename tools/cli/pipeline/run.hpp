@@ -22,8 +22,8 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/outputs.hpp"
 #include "pipeline/latency.hpp"
+#include "pipeline/outputs.hpp"
 #include "pipeline/pipeline_config.hpp"
 #include "pipeline/stage_split.hpp"
 #include "pipeline/stage_table.hpp"
@@ -31,10 +31,10 @@
 namespace fusecal {
 
 struct RunOptions {
-  std::string log_path;   // empty: live (listen until Ctrl-C)
-  double speed = 1.0;     // replay speed; 0: as fast as the pipeline takes it
-  bool live = false;      // play at recorded time x speed without waiting for the stages
-  std::string bus_url;    // empty: the config's
+  std::string log_path;  // empty: live (listen until Ctrl-C)
+  double speed = 1.0;    // replay speed; 0: as fast as the pipeline takes it
+  bool live = false;     // play at recorded time x speed without waiting for the stages
+  std::string bus_url;   // empty: the config's
   std::string out_dir;
   std::vector<std::string> stages;  // the stages started here (`--stages`); empty: all
   // A live ROS 2 robot: fusecal-ros2-input feeds the pipeline from ROS 2 topics (config section
@@ -46,18 +46,18 @@ struct RunOptions {
 struct RunReport {
   CalibrationOutputs outputs;
   int restarts = 0;
-  int roudi_restarts = 0;  // shared memory only: times RouDi was started again
+  int roudi_restarts = 0;          // shared memory only: times RouDi was started again
   bool bus_counts_losses = false;  // dds:// and iox:// count what they lose (sequence gaps, full queues)
-  double bus_dropped = 0;  // messages the buses of the stages and the coordinator know they lost
+  double bus_dropped = 0;          // messages the buses of the stages and the coordinator know they lost
   double total_seconds = 0;
   // Where the time went: starting the stages, playing the log, the stages' work after its end,
   // stopping them and writing the outputs.
   double startup_seconds = 0, replay_seconds = 0, after_log_seconds = 0, outputs_seconds = 0;
-  double listen_seconds = 0;  // without a log: until Ctrl-C or the player's "done"
-  StageCounters stage_counters;  // each stage's last STATUS counters (busy_s, bus_dropped, ...; stages.csv)
-  double span_s = 0;             // recording span played
+  double listen_seconds = 0;              // without a log: until Ctrl-C or the player's "done"
+  StageCounters stage_counters;           // each stage's last STATUS counters (busy_s, bus_dropped, ...; stages.csv)
+  double span_s = 0;                      // recording span played
   std::vector<StationLatency> latencies;  // live replay only (latency.csv)
-  std::string failure;  // why the run ended by itself without a result (a ROS 2 topic never came)
+  std::string failure;                    // why the run ended by itself without a result (a ROS 2 topic never came)
 };
 
 // `stop` is polled (Ctrl-C); `progress` gets status lines and `event` one-off messages (restarts).

@@ -5,14 +5,14 @@
 #include <iomanip>
 #include <sstream>
 
-#include "fusecal/motion_set_t.hpp"
-#include "fusecal/motion_t.hpp"
-#include "fusecal/status_t.hpp"
-#include "runtime/channels.hpp"
 #include "formats/conversions.hpp"
 #include "formats/extrinsic_status.hpp"
 #include "formats/result_file.hpp"
 #include "foundation/observed_covariance.hpp"
+#include "fusecal/motion_set_t.hpp"
+#include "fusecal/motion_t.hpp"
+#include "fusecal/status_t.hpp"
+#include "runtime/channels.hpp"
 
 namespace fusecal {
 
@@ -130,18 +130,20 @@ std::string ProgressText(const SessionRecord& session) {
     const ObservedUncertainty observed = ObservedPart(cov, T.linear(), d);
     const Eigen::Vector3d t = T.translation(), st = observed.translation_std_m, sr = observed.rotation_std_deg;
     const Eigen::Vector3d rpy = RpyFromRotation(T.linear()) * 180.0 / M_PI;
-    out << " | v" << e->version << " it" << e->iteration << " " << ExtrinsicStatusName(e->status) << " (" << ObservabilityName(e->observability) << ")"
+    out << " | v" << e->version << " it" << e->iteration << " " << ExtrinsicStatusName(e->status) << " ("
+        << ObservabilityName(e->observability) << ")"
         << " t=[" << t.x() << " " << t.y() << " " << t.z() << "]+-" << std::setprecision(4) << st.maxCoeff()
         << " m rpy=[" << std::setprecision(2) << rpy.x() << " " << rpy.y() << " " << rpy.z() << "]+-"
         << std::setprecision(4) << sr.maxCoeff() << " deg";
     if (d.norm() > 0.5)
-      out << " (observed part; unobservable: [" << std::setprecision(2) << d.x() << " " << d.y() << " " << d.z() << "])";
+      out << " (observed part; unobservable: [" << std::setprecision(2) << d.x() << " " << d.y() << " " << d.z()
+          << "])";
     const std::vector<ExtrinsicChangeRecord> changes = ChangeRecords(*e);
     if (!changes.empty()) {
       const ExtrinsicChangeRecord& c = changes.back();
-      out << " | CHANGED after station " << c.after_station << " (decided at " << c.decided_at_station << "): "
-          << std::setprecision(3) << c.rotation_deg << "+-" << c.rotation_std_deg << " deg, " << c.translation_m
-          << "+-" << c.translation_std_m << " m";
+      out << " | CHANGED after station " << c.after_station << " (decided at " << c.decided_at_station
+          << "): " << std::setprecision(3) << c.rotation_deg << "+-" << c.rotation_std_deg << " deg, "
+          << c.translation_m << "+-" << c.translation_std_m << " m";
     }
   }
   return out.str();

@@ -15,9 +15,9 @@
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/ground_truth_t.hpp"
 #include "fusecal/station_t.hpp"
-#include "runtime/bus.hpp"
 #include "node_kit/station_retention.hpp"
 #include "pipeline/session_log.hpp"
+#include "runtime/bus.hpp"
 
 namespace fusecal {
 

@@ -41,8 +41,10 @@ std::string StageTableText(const StageCounters& stages, double span_s) {
   char line[256];
   for (const auto& [stage, c] : stages) {
     const double busy = StageCounter(c, "busy_s");
-    std::snprintf(line, sizeof(line), "  %-16s %5.0f items, %8.2f ms mean, %8.2f ms p95, %7.2f s busy, %4.0f skipped, "
-                  "realtime factor %.3f\n", stage.c_str(), StageCounter(c, "items"), StageCounter(c, "item_ms_mean"),
+    std::snprintf(line, sizeof(line),
+                  "  %-16s %5.0f items, %8.2f ms mean, %8.2f ms p95, %7.2f s busy, %4.0f skipped, "
+                  "realtime factor %.3f\n",
+                  stage.c_str(), StageCounter(c, "items"), StageCounter(c, "item_ms_mean"),
                   StageCounter(c, "item_ms_p95"), busy, StageCounter(c, "skipped"), span_s > 0 ? busy / span_s : 0.0);
     out << line;
   }

@@ -80,8 +80,8 @@ class Db3Storage : public StorageFile {
       if (selected.at(topic)) ids += (ids.empty() ? "" : ",") + std::to_string(id);
     // The rowid after the timestamp keeps the recording order among equal stamps, and rosbag2's index on
     // timestamp (which holds the rowid) serves both without a sort.
-    std::string sql = "SELECT topic_id, timestamp, data FROM messages WHERE topic_id IN (" + ids +
-                      ") ORDER BY timestamp, id";
+    std::string sql =
+        "SELECT topic_id, timestamp, data FROM messages WHERE topic_id IN (" + ids + ") ORDER BY timestamp, id";
     return std::make_unique<Db3Cursor>(path_, db_, Prepare(sql), topic_of_id_, bytes_read_);
   }
 

@@ -65,11 +65,13 @@ ImportReport ImportFolder(const std::string& dir, const CameraParams& camera, co
       if (image.empty()) throw std::runtime_error(images[stem] + ": corrupt or unreadable image");
       if (image.cols != camera.width || image.rows != camera.height)
         throw std::runtime_error(images[stem] + ": image is " + std::to_string(image.cols) + "x" +
-                                 std::to_string(image.rows) + ", the camera file says " +
-                                 std::to_string(camera.width) + "x" + std::to_string(camera.height));
+                                 std::to_string(image.rows) + ", the camera file says " + std::to_string(camera.width) +
+                                 "x" + std::to_string(camera.height));
       const PointCloud cloud = ReadScan(scans[stem]);
-      writer.WriteImageFile(utime, bytes, images[stem].size() > 4 && images[stem].substr(images[stem].size() - 4) == ".png" ? "png" : "jpeg",
-                            image.cols, image.rows);
+      writer.WriteImageFile(
+          utime, bytes,
+          images[stem].size() > 4 && images[stem].substr(images[stem].size() - 4) == ".png" ? "png" : "jpeg",
+          image.cols, image.rows);
       writer.WriteScan(utime, cloud);
       writer.WriteStation(id++, utime, image, cloud, camera);
     } catch (const std::exception& e) {

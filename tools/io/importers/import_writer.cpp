@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include "formats/conversions.hpp"
 #include "fusecal/ground_truth_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "runtime/channels.hpp"
-#include "formats/conversions.hpp"
 
 namespace fusecal {
 
@@ -28,8 +28,7 @@ ImportWriter::~ImportWriter() {
 }
 
 void ImportWriter::WriteCalibration(int64_t utime, const CameraParams& camera, const Isometry3* T_camera_lidar,
-                                    const std::string& source,
-                                    const std::vector<std::pair<int, Isometry3>>& poses) {
+                                    const std::string& source, const std::vector<std::pair<int, Isometry3>>& poses) {
   writer_->WriteMessage(channels::kCameraInfo, utime, CameraToMsg(camera, utime));
   if (!T_camera_lidar && poses.empty()) return;
   ground_truth_t truth{};
@@ -64,7 +63,8 @@ void ImportWriter::WriteImageFile(int64_t utime, const std::vector<uint8_t>& byt
 }
 
 void ImportWriter::WriteImage(int64_t utime, const cv::Mat& image) {
-  writer_->WriteMessage(channels::kCameraImage, utime, MatToImage(image, image.channels() == 1 ? "mono8" : "bgr8", utime));
+  writer_->WriteMessage(channels::kCameraImage, utime,
+                        MatToImage(image, image.channels() == 1 ? "mono8" : "bgr8", utime));
   ++report_.images;
 }
 

@@ -33,13 +33,12 @@ class ImportWriter {
   void WriteCalibration(int64_t utime, const CameraParams& camera, const Isometry3* T_camera_lidar,
                         const std::string& source, const std::vector<std::pair<int, Isometry3>>& poses = {});
   // An image file's bytes (png or jpeg) without re-encoding.
-  void WriteImageFile(int64_t utime, const std::vector<uint8_t>& bytes, const std::string& encoding,
-                      int width, int height);
+  void WriteImageFile(int64_t utime, const std::vector<uint8_t>& bytes, const std::string& encoding, int width,
+                      int height);
   // A decoded 8-bit image (grey or BGR), stored raw as mono8 or bgr8.
   void WriteImage(int64_t utime, const cv::Mat& image);
   void WriteScan(int64_t utime, const PointCloud& cloud);
-  void WriteStation(int id, int64_t utime, const cv::Mat& image, const PointCloud& cloud,
-                    const CameraParams& camera);
+  void WriteStation(int id, int64_t utime, const cv::Mat& image, const PointCloud& cloud, const CameraParams& camera);
   void Commit();
 
   ImportReport& report() { return report_; }

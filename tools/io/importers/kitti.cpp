@@ -55,8 +55,8 @@ std::map<std::string, std::pair<std::string, int64_t>> IndexSensor(const std::st
   const auto files = ListFiles(sensor_dir + "/data", extensions);
   const auto times = ReadKittiTimestamps(sensor_dir + "/timestamps.txt");
   if (files.size() != times.size())
-    throw std::runtime_error(sensor_dir + "/timestamps.txt has " + std::to_string(times.size()) +
-                             " lines for " + std::to_string(files.size()) + " data files");
+    throw std::runtime_error(sensor_dir + "/timestamps.txt has " + std::to_string(times.size()) + " lines for " +
+                             std::to_string(files.size()) + " data files");
   std::map<std::string, std::pair<std::string, int64_t>> index;
   for (size_t i = 0; i < files.size(); ++i) index[fs::path(files[i]).stem().string()] = {files[i], times[i]};
   return index;
@@ -68,13 +68,12 @@ int64_t ParseKittiTimestamp(const std::string& text) {
   std::tm tm{};
   double seconds = 0;
   char extra = 0;
-  if (std::sscanf(text.c_str(), "%d-%d-%d %d:%d:%lf%c", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour,
-                  &tm.tm_min, &seconds, &extra) < 6)
+  if (std::sscanf(text.c_str(), "%d-%d-%d %d:%d:%lf%c", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour, &tm.tm_min,
+                  &seconds, &extra) < 6)
     throw std::runtime_error("not a KITTI timestamp: '" + text + "'");
   // Out-of-range fields would overflow the microseconds (found by fuzzing: year 20200020).
-  if (tm.tm_year < 1900 || tm.tm_year > 9999 || tm.tm_mon < 1 || tm.tm_mon > 12 || tm.tm_mday < 1 ||
-      tm.tm_mday > 31 || tm.tm_hour < 0 || tm.tm_hour > 23 || tm.tm_min < 0 || tm.tm_min > 59 ||
-      !(seconds >= 0 && seconds < 61))
+  if (tm.tm_year < 1900 || tm.tm_year > 9999 || tm.tm_mon < 1 || tm.tm_mon > 12 || tm.tm_mday < 1 || tm.tm_mday > 31 ||
+      tm.tm_hour < 0 || tm.tm_hour > 23 || tm.tm_min < 0 || tm.tm_min > 59 || !(seconds >= 0 && seconds < 61))
     throw std::runtime_error("not a KITTI timestamp: '" + text + "' (a field is out of range)");
   tm.tm_year -= 1900;
   tm.tm_mon -= 1;
@@ -105,9 +104,8 @@ KittiCalibration ReadKittiCalibration(const std::string& dir) {
   const std::string velo_path = dir + "/calib_velo_to_cam.txt", cam_path = dir + "/calib_cam_to_cam.txt";
   const auto velo = ReadKeyValues(velo_path);
   const auto cam = ReadKeyValues(cam_path);
-  const Isometry3 T_cam0_velo =
-      MakeIsometry(Matrix3(Need(velo, "R", 9, velo_path)),
-                   Eigen::Map<const Eigen::Vector3d>(Need(velo, "T", 3, velo_path).data()));
+  const Isometry3 T_cam0_velo = MakeIsometry(Matrix3(Need(velo, "R", 9, velo_path)),
+                                             Eigen::Map<const Eigen::Vector3d>(Need(velo, "T", 3, velo_path).data()));
   const Eigen::Matrix3d R_rect = Matrix3(Need(cam, "R_rect_00", 9, cam_path));
   const auto& P = Need(cam, "P_rect_02", 12, cam_path);
   const auto& S = Need(cam, "S_rect_02", 2, cam_path);
@@ -183,8 +181,8 @@ ImportReport ImportKitti(const std::string& dir, const std::string& out_log, con
         if (station_ids.count(item.stem)) station_clouds[item.stem] = cloud;
       }
       if (station_images.count(item.stem) && station_clouds.count(item.stem)) {
-        writer.WriteStation(station_ids[item.stem], item.utime, station_images[item.stem],
-                            station_clouds[item.stem], calib.camera);
+        writer.WriteStation(station_ids[item.stem], item.utime, station_images[item.stem], station_clouds[item.stem],
+                            calib.camera);
         station_images.erase(item.stem);
         station_clouds.erase(item.stem);
       }

@@ -13,7 +13,7 @@
 namespace fusecal {
 
 struct KittiCalibration {
-  CameraParams camera;     // rectified pinhole of image_02, from P_rect_02 and S_rect_02
+  CameraParams camera;       // rectified pinhole of image_02, from P_rect_02 and S_rect_02
   Isometry3 T_camera_lidar;  // camera 2 (rectified) <- Velodyne, through R_rect_00 and P_rect_02
 };
 

@@ -1,7 +1,7 @@
 #include "importers/mcap_chunk.hpp"
 
-#include <lz4frame.h>
 #include <isa-l/crc.h>
+#include <lz4frame.h>
 #include <zstd.h>
 
 #include <algorithm>
@@ -25,8 +25,8 @@ class GrowingOutput {
   // Room to write into; grows when full. Throws once the stream has yielded more than expected.
   uint8_t* Room(size_t& room) {
     if (filled_ == bytes_.size()) {
-      if (filled_ > expected_) throw McapError("chunk decompresses to more than its uncompressed size " +
-                                               std::to_string(expected_));
+      if (filled_ > expected_)
+        throw McapError("chunk decompresses to more than its uncompressed size " + std::to_string(expected_));
       bytes_.resize(static_cast<size_t>(std::min<uint64_t>(expected_ + 1, uint64_t{bytes_.size()} * 2)));
     }
     room = bytes_.size() - filled_;
@@ -68,7 +68,7 @@ std::vector<uint8_t> Zstd(const std::vector<uint8_t>& stored, uint64_t expected)
     hint = ZSTD_decompressStream(context.get(), &out, &in);
     if (ZSTD_isError(hint)) throw McapError(std::string("zstd chunk: ") + ZSTD_getErrorName(hint));
     output.Advance(out.pos);
-    if (in.pos == in.size && !output.full()) break;  // all read, and the decoder had room to flush
+    if (in.pos == in.size && !output.full()) break;                    // all read, and the decoder had room to flush
     if (out.pos == 0 && in.pos == in_before && !output.full()) break;  // no progress: let Finish say why
   }
   return output.Finish(hint == 0 && in.pos == in.size, "zstd");
@@ -104,10 +104,14 @@ std::vector<uint8_t> Lz4(const std::vector<uint8_t>& stored, uint64_t expected) 
 }  // namespace
 
 bool ParseCompression(const std::string& name, Compression& compression) {
-  if (name.empty()) compression = Compression::kNone;
-  else if (name == "zstd") compression = Compression::kZstd;
-  else if (name == "lz4") compression = Compression::kLz4;
-  else return false;
+  if (name.empty())
+    compression = Compression::kNone;
+  else if (name == "zstd")
+    compression = Compression::kZstd;
+  else if (name == "lz4")
+    compression = Compression::kLz4;
+  else
+    return false;
   return true;
 }
 

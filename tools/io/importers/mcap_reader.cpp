@@ -13,7 +13,9 @@ McapReader::McapReader(const std::string& path, const Limits& limits)
     : McapReader(path, OpenFileSource(path), limits) {}
 
 McapReader::McapReader(const std::string& name, std::unique_ptr<ByteSource> source, const Limits& limits)
-    : name_(name), source_(std::move(source)), limits_(limits),
+    : name_(name),
+      source_(std::move(source)),
+      limits_(limits),
       index_(std::make_unique<McapIndex>(ScanMcap(*source_, name_, limits_))) {}
 
 McapReader::~McapReader() = default;
@@ -41,7 +43,9 @@ std::unique_ptr<McapReader> ReadMcapFromMemory(const std::string& name, const ui
 }
 
 McapCursor::McapCursor(McapReader& reader, std::vector<uint32_t> order)
-    : reader_(reader), order_(std::move(order)), pending_(reader.index_->chunks.size(), 0),
+    : reader_(reader),
+      order_(std::move(order)),
+      pending_(reader.index_->chunks.size(), 0),
       chunk_data_(reader.index_->chunks.size()) {
   for (const uint32_t i : order_) {
     const uint32_t chunk = reader_.index_->messages[i].chunk;
@@ -81,9 +85,9 @@ const uint8_t* McapCursor::ChunkData(uint32_t chunk) {
   if (location.compression == Compression::kNone && location.crc != 0) {
     const uint32_t actual = Crc32(data.data(), data.size());
     if (actual != location.crc)
-      throw std::runtime_error(reader_.name_ + ": bad CRC of a chunk: its records have CRC32 " + std::to_string(actual) +
-                               ", the chunk says " + std::to_string(location.crc) + " at offset " +
-                               std::to_string(location.record_offset));
+      throw std::runtime_error(reader_.name_ + ": bad CRC of a chunk: its records have CRC32 " +
+                               std::to_string(actual) + ", the chunk says " + std::to_string(location.crc) +
+                               " at offset " + std::to_string(location.record_offset));
   }
   return data.data();
 }

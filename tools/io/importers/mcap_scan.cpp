@@ -17,8 +17,15 @@ constexpr uint64_t kRecordHead = 9;       // opcode and uint64 length
 constexpr uint64_t kFooterContent = 20;   // summary_start, summary_offset_start, summary_crc
 constexpr uint64_t kMessageHead = 22;     // channel_id, sequence, log_time, publish_time
 constexpr uint64_t kChunkFixedHead = 28;  // message_start/end_time, uncompressed_size, uncompressed_crc
-enum Opcode : uint8_t { kHeader = 0x01, kFooter = 0x02, kSchema = 0x03, kChannel = 0x04, kMessage = 0x05,
-                        kChunk = 0x06, kDataEnd = 0x0F };
+enum Opcode : uint8_t {
+  kHeader = 0x01,
+  kFooter = 0x02,
+  kSchema = 0x03,
+  kChannel = 0x04,
+  kMessage = 0x05,
+  kChunk = 0x06,
+  kDataEnd = 0x0F
+};
 constexpr uint32_t kNoChannel = UINT32_MAX;
 
 class Scanner {
@@ -38,8 +45,10 @@ class Scanner {
       try {
         if (!ScanRecord(op, offset, length)) {
           // The data section is whole; only the summary, which is not needed, was cut.
-          if (!complete_) index_.warnings.push_back(name_ + ": no footer (recording cut short after its data "
-                                                    "section); every message was read");
+          if (!complete_)
+            index_.warnings.push_back(name_ +
+                                      ": no footer (recording cut short after its data "
+                                      "section); every message was read");
           break;
         }
       } catch (const McapError& e) {
@@ -99,9 +108,11 @@ class Scanner {
       index_.warnings.push_back(name_ + ": no footer (recording cut short); every record up to the end at offset " +
                                 std::to_string(offset) + " was read");
     } else {
-      index_.warnings.push_back(name_ + ": no footer (recording cut short); read to the last complete record, "
-                                "which ends at offset " + std::to_string(offset) + ", dropped " +
-                                std::to_string(dropped) + " bytes (" + what + ")");
+      index_.warnings.push_back(name_ +
+                                ": no footer (recording cut short); read to the last complete record, "
+                                "which ends at offset " +
+                                std::to_string(offset) + ", dropped " + std::to_string(dropped) + " bytes (" + what +
+                                ")");
     }
     return false;
   }
@@ -148,7 +159,7 @@ class Scanner {
     const uint16_t schema_id = fields.U16();
     channel.topic = fields.String();
     channel.message_encoding = fields.String();
-    fields.SkipPrefixed();  // metadata
+    fields.SkipPrefixed();                         // metadata
     if (channel_by_id_.count(channel.id)) return;  // a repeat: the first definition stands
     if (schema_id != 0) {
       const auto schema = schemas_.find(schema_id);
@@ -220,8 +231,8 @@ void Scanner::ScanChunk(uint64_t offset, uint64_t length) {
     throw McapError("unknown compression '" + compression_name + "' of a chunk");
   if (location.compression == Compression::kNone) {
     if (stored_size != uncompressed_size)
-      throw McapError("uncompressed chunk of " + std::to_string(stored_size) + " bytes declares an uncompressed size of " +
-                      std::to_string(uncompressed_size));
+      throw McapError("uncompressed chunk of " + std::to_string(stored_size) +
+                      " bytes declares an uncompressed size of " + std::to_string(uncompressed_size));
     if (uncompressed_size > limits_.max_chunk_bytes)
       throw McapError("chunk of " + std::to_string(uncompressed_size) + " uncompressed bytes exceeds the limit of " +
                       std::to_string(limits_.max_chunk_bytes));
@@ -235,8 +246,8 @@ void Scanner::ScanChunk(uint64_t offset, uint64_t length) {
                    limits_.max_chunk_bytes);
   const uint32_t actual_crc = crc == 0 ? 0 : Crc32(records.data(), records.size());
   if (actual_crc != crc)
-    throw McapError("bad CRC of a chunk: its records have CRC32 " + std::to_string(actual_crc) +
-                    ", the chunk says " + std::to_string(crc));
+    throw McapError("bad CRC of a chunk: its records have CRC32 " + std::to_string(actual_crc) + ", the chunk says " +
+                    std::to_string(crc));
   index_.chunks.push_back(location);
   ScanChunkRecords(records, static_cast<uint32_t>(index_.chunks.size() - 1));
 }
@@ -259,8 +270,8 @@ void Scanner::ScanStoredRecords(uint64_t start, uint64_t size, uint32_t chunk) {
       const std::vector<uint8_t> content = source_.Read(start + at + kRecordHead, length);
       ScanDefinition(op, content.data(), length);
     } else if (op == kMessage) {
-      if (length < kMessageHead) throw McapError("chunk: a Message record of " + std::to_string(length) +
-                                                 " bytes" + where());
+      if (length < kMessageHead)
+        throw McapError("chunk: a Message record of " + std::to_string(length) + " bytes" + where());
       source_.ReadAt(start + at + kRecordHead, kMessageHead, head + kRecordHead);
       AddMessage(head + kRecordHead, length, chunk, at + kRecordHead + kMessageHead);
     }
@@ -284,8 +295,8 @@ void Scanner::ScanChunkRecords(const std::vector<uint8_t>& records, uint32_t chu
     if (op == kSchema || op == kChannel) {
       ScanDefinition(op, content, length);
     } else if (op == kMessage) {
-      if (length < kMessageHead) throw McapError("chunk: a Message record of " + std::to_string(length) +
-                                                 " bytes" + where());
+      if (length < kMessageHead)
+        throw McapError("chunk: a Message record of " + std::to_string(length) + " bytes" + where());
       AddMessage(content, length, chunk, at + kRecordHead + kMessageHead);
     }
     at += kRecordHead + length;

@@ -21,10 +21,10 @@ struct Property {
 };
 
 int TypeSize(const std::string& type) {
-  static const std::map<std::string, int> sizes{
-      {"char", 1},   {"uchar", 1},  {"int8", 1},   {"uint8", 1},  {"short", 2},   {"ushort", 2},
-      {"int16", 2},  {"uint16", 2}, {"int", 4},    {"uint", 4},   {"int32", 4},   {"uint32", 4},
-      {"float", 4},  {"float32", 4}, {"double", 8}, {"float64", 8}};
+  static const std::map<std::string, int> sizes{{"char", 1},  {"uchar", 1},   {"int8", 1},   {"uint8", 1},
+                                                {"short", 2}, {"ushort", 2},  {"int16", 2},  {"uint16", 2},
+                                                {"int", 4},   {"uint", 4},    {"int32", 4},  {"uint32", 4},
+                                                {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
   const auto it = sizes.find(type);
   return it == sizes.end() ? 0 : it->second;
 }
@@ -33,13 +33,33 @@ double Decode(const uint8_t* p, const std::string& type, bool swap) {
   uint8_t b[8];
   const int n = TypeSize(type);
   for (int i = 0; i < n; ++i) b[i] = swap ? p[n - 1 - i] : p[i];
-  if (type == "float" || type == "float32") { float v; std::memcpy(&v, b, 4); return v; }
-  if (type == "double" || type == "float64") { double v; std::memcpy(&v, b, 8); return v; }
+  if (type == "float" || type == "float32") {
+    float v;
+    std::memcpy(&v, b, 4);
+    return v;
+  }
+  if (type == "double" || type == "float64") {
+    double v;
+    std::memcpy(&v, b, 8);
+    return v;
+  }
   if (type == "char" || type == "int8") return int8_t(b[0]);
   if (type == "uchar" || type == "uint8") return b[0];
-  if (type == "short" || type == "int16") { int16_t v; std::memcpy(&v, b, 2); return v; }
-  if (type == "ushort" || type == "uint16") { uint16_t v; std::memcpy(&v, b, 2); return v; }
-  if (type == "int" || type == "int32") { int32_t v; std::memcpy(&v, b, 4); return v; }
+  if (type == "short" || type == "int16") {
+    int16_t v;
+    std::memcpy(&v, b, 2);
+    return v;
+  }
+  if (type == "ushort" || type == "uint16") {
+    uint16_t v;
+    std::memcpy(&v, b, 2);
+    return v;
+  }
+  if (type == "int" || type == "int32") {
+    int32_t v;
+    std::memcpy(&v, b, 4);
+    return v;
+  }
   uint32_t v;
   std::memcpy(&v, b, 4);
   return v;
@@ -67,7 +87,8 @@ VertexColumns FindVertexColumns(const std::string& path, const std::vector<Prope
 // The pose of the "matrix" lines (each a column), none when there are none.
 std::optional<Eigen::Matrix4d> PoseFromColumns(const std::string& path, const std::vector<Eigen::Vector4d>& columns) {
   if (columns.empty()) return std::nullopt;
-  if (columns.size() != 4) throw std::runtime_error(path + ": needs 4 'matrix' lines, has " + std::to_string(columns.size()));
+  if (columns.size() != 4)
+    throw std::runtime_error(path + ": needs 4 'matrix' lines, has " + std::to_string(columns.size()));
   Eigen::Matrix4d M;
   for (int c = 0; c < 4; ++c) M.col(c) = columns[c];
   return M;
@@ -118,7 +139,8 @@ PosedScan ReadPlyWithPose(const std::string& path) {
         vertices = count;
         in_vertex = true;
       } else {
-        if (vertices < 0) throw std::runtime_error(path + ": element '" + name + "' before the vertices is not supported");
+        if (vertices < 0)
+          throw std::runtime_error(path + ": element '" + name + "' before the vertices is not supported");
         in_vertex = false;
       }
     }
@@ -153,7 +175,8 @@ PosedScan ReadPlyWithPose(const std::string& path) {
     const bool swap = format == "binary_big_endian";
     for (int64_t v = 0; v < vertices; ++v) {
       if (!in.read(reinterpret_cast<char*>(row.data()), stride))
-        throw std::runtime_error(path + ": truncated at vertex " + std::to_string(v) + " of " + std::to_string(vertices));
+        throw std::runtime_error(path + ": truncated at vertex " + std::to_string(v) + " of " +
+                                 std::to_string(vertices));
       int offset = 0;
       for (size_t k = 0; k < props.size(); ++k) {
         values[k] = Decode(row.data() + offset, props[k].type, swap);

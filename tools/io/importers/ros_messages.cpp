@@ -7,9 +7,7 @@ namespace fusecal {
 
 namespace {
 
-RosHeader ToHeader(std_msgs::Header header) {
-  return RosHeader{FromRos1(header.stamp), std::move(header.frame_id)};
-}
+RosHeader ToHeader(std_msgs::Header header) { return RosHeader{FromRos1(header.stamp), std::move(header.frame_id)}; }
 
 }  // namespace
 
@@ -62,8 +60,8 @@ RosCameraInfo FromRos1(sensor_msgs::CameraInfo msg) {
   std::copy(msg.P.begin(), msg.P.end(), out.P.begin());
   out.binning_x = msg.binning_x;
   out.binning_y = msg.binning_y;
-  out.roi = RosRegionOfInterest{msg.roi.x_offset, msg.roi.y_offset, msg.roi.height, msg.roi.width,
-                                msg.roi.do_rectify != 0};
+  out.roi =
+      RosRegionOfInterest{msg.roi.x_offset, msg.roi.y_offset, msg.roi.height, msg.roi.width, msg.roi.do_rectify != 0};
   return out;
 }
 

@@ -44,10 +44,11 @@ std::string Listing(const TopicTypes& topics) {
 void RequireTopic(const BagSource& bag, const TopicTypes& topics, const std::string& topic,
                   const std::vector<RosMessageKind>& kinds, const std::string& role, const std::string& bag_path) {
   std::string accepted;
-  for (const RosMessageKind kind : kinds) accepted += (accepted.empty() ? "" : " or ") + TypeName(kind, bag.ros_version());
+  for (const RosMessageKind kind : kinds)
+    accepted += (accepted.empty() ? "" : " or ") + TypeName(kind, bag.ros_version());
   if (topic.empty())
-    throw std::runtime_error("name the " + role + " topic (" + accepted + "); " + bag_path + " has: " +
-                             Listing(topics));
+    throw std::runtime_error("name the " + role + " topic (" + accepted + "); " + bag_path +
+                             " has: " + Listing(topics));
   const auto it = topics.find(topic);
   if (it == topics.end())
     throw std::runtime_error(bag_path + " has no topic " + topic + "; it has: " + Listing(topics));
@@ -126,8 +127,8 @@ class SkipTally {
   }
   void Report(ImportReport& report) const {
     for (const auto& [topic, entry] : skipped_)
-      report.warnings.push_back(topic + ": " + std::to_string(entry.second) + " message(s) skipped, the first: " +
-                                entry.first);
+      report.warnings.push_back(topic + ": " + std::to_string(entry.second) +
+                                " message(s) skipped, the first: " + entry.first);
   }
 
  private:
@@ -184,8 +185,10 @@ void ConvertMessages(BagSource& bag, const RosbagImportOptions& options, Message
   int done = 0;
   bag.ForEach({options.image_topic, options.cloud_topic}, [&](const BagMessage& m) {
     try {
-      if (m.topic() == options.image_topic) converter.Image(m);
-      else converter.Cloud(m);
+      if (m.topic() == options.image_topic)
+        converter.Image(m);
+      else
+        converter.Cloud(m);
     } catch (const std::exception& e) {
       skipped.Add(m.topic(), e.what());
     }
@@ -208,19 +211,18 @@ void AddWarnings(const BagSource& bag, const SkipTally& skipped, const MessageCo
 
 }  // namespace
 
-ImportReport ImportRosbag(const std::string& bag_path, const std::string& out_log,
-                          const RosbagImportOptions& options, const ImportProgress& progress) {
+ImportReport ImportRosbag(const std::string& bag_path, const std::string& out_log, const RosbagImportOptions& options,
+                          const ImportProgress& progress) {
   const auto bag = OpenBag(bag_path);
   const TopicTypes topics = ListTopics(*bag);
-  RequireTopic(*bag, topics, options.image_topic, {RosMessageKind::kImage, RosMessageKind::kCompressedImage},
-               "image", bag_path);
+  RequireTopic(*bag, topics, options.image_topic, {RosMessageKind::kImage, RosMessageKind::kCompressedImage}, "image",
+               bag_path);
   RequireTopic(*bag, topics, options.cloud_topic, {RosMessageKind::kPointCloud2}, "cloud", bag_path);
   const CameraParams camera = ReadCameraModel(*bag, topics, options, bag_path);
 
   ImportWriter writer(out_log);
-  TimeOrderedWriter ordered(2000000, [&](int64_t first_utime) {
-    writer.WriteCalibration(first_utime, camera, nullptr, "");
-  });
+  TimeOrderedWriter ordered(2000000,
+                            [&](int64_t first_utime) { writer.WriteCalibration(first_utime, camera, nullptr, ""); });
   MessageConverter converter(camera, writer, ordered);
   SkipTally skipped;
   ConvertMessages(*bag, options, converter, skipped, progress);

@@ -15,14 +15,14 @@
 namespace fusecal {
 
 struct RosbagImportOptions {
-  std::string image_topic;        // empty: an error listing the image topics of the bag
-  std::string cloud_topic;        // empty: an error listing the cloud topics of the bag
-  std::string camera_info_topic;  // empty: camera_info next to the image topic, or the bag's only one
+  std::string image_topic;             // empty: an error listing the image topics of the bag
+  std::string cloud_topic;             // empty: an error listing the cloud topics of the bag
+  std::string camera_info_topic;       // empty: camera_info next to the image topic, or the bag's only one
   std::optional<CameraParams> camera;  // from a camera file: used instead of any CameraInfo
 };
 
 // Throws std::runtime_error naming the bag and, for a missing or mistyped topic, every topic it has.
-ImportReport ImportRosbag(const std::string& bag_path, const std::string& out_log,
-                          const RosbagImportOptions& options, const ImportProgress& progress = nullptr);
+ImportReport ImportRosbag(const std::string& bag_path, const std::string& out_log, const RosbagImportOptions& options,
+                          const ImportProgress& progress = nullptr);
 
 }  // namespace fusecal

@@ -1,9 +1,9 @@
 // ROS 1 bags through Debian's rosbag_storage: the one BagSource that sees ROS 1 headers.
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
 #include <filesystem>
 #include <map>
 #include <stdexcept>
-#include <rosbag/bag.h>
-#include <rosbag/view.h>
 
 #include "formats/ros_sensor_conversions.hpp"
 #include "importers/bag_source.hpp"
@@ -53,7 +53,8 @@ class Ros1Bag : public BagSource {
     // carries its own type.
     std::map<std::string, std::string> types;
     rosbag::View view(bag_);
-    for (const rosbag::ConnectionInfo* connection : view.getConnections()) types[connection->topic] = connection->datatype;
+    for (const rosbag::ConnectionInfo* connection : view.getConnections())
+      types[connection->topic] = connection->datatype;
     for (const auto& [name, type] : types)
       topics_.push_back(BagTopic{name, type, rosbag::View(bag_, rosbag::TopicQuery(name)).size()});
   }
@@ -62,8 +63,7 @@ class Ros1Bag : public BagSource {
   int ros_version() const override { return 1; }
   std::vector<std::string> warnings() const override { return {}; }
 
-  void ForEach(const std::set<std::string>& topic_names,
-               const std::function<bool(const BagMessage&)>& visit) override {
+  void ForEach(const std::set<std::string>& topic_names, const std::function<bool(const BagMessage&)>& visit) override {
     rosbag::View view(bag_, rosbag::TopicQuery(std::vector<std::string>(topic_names.begin(), topic_names.end())));
     for (const rosbag::MessageInstance& m : view)
       if (!visit(Ros1Message(m))) return;

@@ -101,7 +101,8 @@ Rosbag2Reader::Rosbag2Reader(const std::string& path) : path_(path) {
   std::error_code error;
   if (fs::is_directory(path, error)) {
     if (!fs::is_regular_file(fs::path(path) / "metadata.yaml", error))
-      throw std::runtime_error(path + ": a folder without metadata.yaml is no rosbag2 bag (`ros2 bag reindex` "
+      throw std::runtime_error(path +
+                               ": a folder without metadata.yaml is no rosbag2 bag (`ros2 bag reindex` "
                                "writes one)");
     BagLayout layout = ReadMetadata(path);
     topics_ = std::move(layout.topics);

@@ -25,8 +25,9 @@ struct Rosbag2Topic {
 };
 struct Rosbag2Message {
   const Rosbag2Topic* topic;
-  int64_t log_time_ns;               // receive time of the recorder
-  const uint8_t* data; size_t size;  // valid during the callback only
+  int64_t log_time_ns;  // receive time of the recorder
+  const uint8_t* data;
+  size_t size;  // valid during the callback only
 };
 
 namespace rosbag2_detail {
@@ -37,9 +38,9 @@ class Rosbag2Reader {
  public:
   // Opens every file of the bag and indexes each MCAP file in one linear pass (its summary is not
   // trusted), so the errors ForEach names below may already come from here.
-  explicit Rosbag2Reader(const std::string& path);   // throws std::runtime_error naming the path
+  explicit Rosbag2Reader(const std::string& path);  // throws std::runtime_error naming the path
   ~Rosbag2Reader();
-  static bool IsRosbag2(const std::string& path);     // folder with metadata.yaml, *.mcap, *.db3
+  static bool IsRosbag2(const std::string& path);  // folder with metadata.yaml, *.mcap, *.db3
   const std::vector<Rosbag2Topic>& topics() const;
   // Calls visit for every message of the named topics (all when empty), in log-time order over the
   // whole bag (split files included). Throws std::runtime_error naming file and byte offset on a

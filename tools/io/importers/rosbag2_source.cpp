@@ -45,8 +45,7 @@ class Ros2Bag : public BagSource {
   int ros_version() const override { return 2; }
   std::vector<std::string> warnings() const override { return reader_.warnings(); }
 
-  void ForEach(const std::set<std::string>& topic_names,
-               const std::function<bool(const BagMessage&)>& visit) override {
+  void ForEach(const std::set<std::string>& topic_names, const std::function<bool(const BagMessage&)>& visit) override {
     // The visitor's own exceptions are carried past the reader, which would otherwise report them as
     // its own (and with a file offset).
     std::exception_ptr failure;

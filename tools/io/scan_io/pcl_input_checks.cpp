@@ -85,15 +85,24 @@ PcdHeader ReadPcdHeader(const std::string& path, std::ifstream& in) {
     const std::string key = words.empty() ? "" : words[0];
     const std::vector<std::string> values(words.size() > 1 ? words.begin() + 1 : words.end(), words.end());
     if (key == "VERSION" || key == "VIEWPOINT") continue;
-    if (key == "FIELDS") h.fields = values;
-    else if (key == "SIZE") h.sizes = values;
-    else if (key == "TYPE") h.types = values;
-    else if (key == "COUNT") h.counts = values;
-    else if (key == "WIDTH") h.width = PcdNumber(path, line, words);
-    else if (key == "HEIGHT") h.height = PcdNumber(path, line, words);
-    else if (key == "POINTS") h.points = PcdNumber(path, line, words);
-    else if (key == "DATA") h.data = values.empty() ? "?" : values[0];
-    else Fail(path, "corrupt .pcd header: unknown line '" + line + "'");
+    if (key == "FIELDS")
+      h.fields = values;
+    else if (key == "SIZE")
+      h.sizes = values;
+    else if (key == "TYPE")
+      h.types = values;
+    else if (key == "COUNT")
+      h.counts = values;
+    else if (key == "WIDTH")
+      h.width = PcdNumber(path, line, words);
+    else if (key == "HEIGHT")
+      h.height = PcdNumber(path, line, words);
+    else if (key == "POINTS")
+      h.points = PcdNumber(path, line, words);
+    else if (key == "DATA")
+      h.data = values.empty() ? "?" : values[0];
+    else
+      Fail(path, "corrupt .pcd header: unknown line '" + line + "'");
   }
   h.header_bytes = in.tellg();
   return h;
@@ -161,8 +170,8 @@ void CheckNothingReadAsHeaderAfterData(const std::string& path, const PcdHeader&
   if (h.header_bytes < 0) return;  // the DATA line ended the file
   std::ifstream in(path, std::ios::binary);
   in.seekg(h.header_bytes);
-  static const char* kKeys[] = {"FIELDS", "COLUMNS", "SIZE", "TYPE", "COUNT", "WIDTH",
-                                "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+  static const char* kKeys[] = {"FIELDS", "COLUMNS", "SIZE",      "TYPE",   "COUNT",
+                                "WIDTH",  "HEIGHT",  "VIEWPOINT", "POINTS", "DATA"};
   std::string line;
   while (std::getline(in, line)) {
     if (line.empty()) continue;

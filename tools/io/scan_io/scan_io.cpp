@@ -73,15 +73,24 @@ double ReadValue(const uint8_t* p, uint8_t datatype) {
     return static_cast<double>(v);
   };
   switch (datatype) {
-    case pcl::PCLPointField::INT8: return get(int8_t());
-    case pcl::PCLPointField::UINT8: return get(uint8_t());
-    case pcl::PCLPointField::INT16: return get(int16_t());
-    case pcl::PCLPointField::UINT16: return get(uint16_t());
-    case pcl::PCLPointField::INT32: return get(int32_t());
-    case pcl::PCLPointField::UINT32: return get(uint32_t());
-    case pcl::PCLPointField::FLOAT32: return get(float());
-    case pcl::PCLPointField::FLOAT64: return get(double());
-    default: return std::numeric_limits<double>::quiet_NaN();
+    case pcl::PCLPointField::INT8:
+      return get(int8_t());
+    case pcl::PCLPointField::UINT8:
+      return get(uint8_t());
+    case pcl::PCLPointField::INT16:
+      return get(int16_t());
+    case pcl::PCLPointField::UINT16:
+      return get(uint16_t());
+    case pcl::PCLPointField::INT32:
+      return get(int32_t());
+    case pcl::PCLPointField::UINT32:
+      return get(uint32_t());
+    case pcl::PCLPointField::FLOAT32:
+      return get(float());
+    case pcl::PCLPointField::FLOAT64:
+      return get(double());
+    default:
+      return std::numeric_limits<double>::quiet_NaN();
   }
 }
 
@@ -92,11 +101,15 @@ bool IsInteger(uint8_t datatype) {
 size_t FieldSize(uint8_t datatype) {
   switch (datatype) {
     case pcl::PCLPointField::INT8:
-    case pcl::PCLPointField::UINT8: return 1;
+    case pcl::PCLPointField::UINT8:
+      return 1;
     case pcl::PCLPointField::INT16:
-    case pcl::PCLPointField::UINT16: return 2;
-    case pcl::PCLPointField::FLOAT64: return 8;
-    default: return 4;
+    case pcl::PCLPointField::UINT16:
+      return 2;
+    case pcl::PCLPointField::FLOAT64:
+      return 8;
+    default:
+      return 4;
   }
 }
 
@@ -130,9 +143,9 @@ PointCloud FromPcl(const std::string& path, const pcl::PCLPointCloud2& c) {
   const double time_scale = time && IsInteger(time->datatype) ? 1e-9 : 1.0;
   for (size_t i = 0; i < n; ++i) {
     const uint8_t* p = c.data.data() + i * c.point_step;
-    cloud.points[i] = Eigen::Vector3f(float(ReadValue(p + x->offset, x->datatype)),
-                                      float(ReadValue(p + y->offset, y->datatype)),
-                                      float(ReadValue(p + z->offset, z->datatype)));
+    cloud.points[i] =
+        Eigen::Vector3f(float(ReadValue(p + x->offset, x->datatype)), float(ReadValue(p + y->offset, y->datatype)),
+                        float(ReadValue(p + z->offset, z->datatype)));
     if (intensity) cloud.intensity[i] = float(ReadValue(p + intensity->offset, intensity->datatype));
     if (ring) cloud.ring[i] = RingIndex(path, ReadValue(p + ring->offset, ring->datatype), i);
     if (time) cloud.time_offset_s[i] = float(time_scale * ReadValue(p + time->offset, time->datatype));
@@ -157,7 +170,8 @@ PointCloud ReadWithPcl(const std::string& path, bool ply) {
   } catch (const std::exception& e) {
     Fail(path, std::string("corrupt or unreadable: ") + e.what());
   }
-  if (status < 0) Fail(path, std::string("corrupt or truncated ") + (ply ? ".ply" : ".pcd") + " file (PCL could not read it)");
+  if (status < 0)
+    Fail(path, std::string("corrupt or truncated ") + (ply ? ".ply" : ".pcd") + " file (PCL could not read it)");
   return FromPcl(path, c);
 }
 
@@ -217,8 +231,8 @@ void WritePcd(const std::string& path, const PointCloud& cloud) {
   if (l.ring) add("ring", "2", "I");
   if (l.time) add("time", "4", "F");
   const std::string n = std::to_string(cloud.size());
-  const std::string header = "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS " + fields +
-                             "\nSIZE " + sizes + "\nTYPE " + types + "\nCOUNT " + counts + "\nWIDTH " + n +
+  const std::string header = "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS " + fields + "\nSIZE " +
+                             sizes + "\nTYPE " + types + "\nCOUNT " + counts + "\nWIDTH " + n +
                              "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n + "\nDATA binary\n";
   WriteFile(path, header, PackPoints(cloud, l));
 }
@@ -226,8 +240,7 @@ void WritePcd(const std::string& path, const PointCloud& cloud) {
 void WritePly(const std::string& path, const PointCloud& cloud) {
   const Layout l = LayoutOf(path, cloud);
   std::string header = "ply\nformat binary_little_endian 1.0\ncomment fusecal scan\nelement vertex " +
-                       std::to_string(cloud.size()) +
-                       "\nproperty float x\nproperty float y\nproperty float z\n";
+                       std::to_string(cloud.size()) + "\nproperty float x\nproperty float y\nproperty float z\n";
   if (l.intensity) header += "property float intensity\n";
   if (l.ring) header += "property short ring\n";
   if (l.time) header += "property float time\n";

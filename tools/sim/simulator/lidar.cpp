@@ -31,13 +31,11 @@ LidarSensor::LidarSensor(const LidarParams& params) : params_(params), columns_(
   std::vector<double> azimuth(columns_);
   const double step = 2.0 * M_PI / columns_;
   for (int c = 0; c < columns_; ++c) azimuth[c] = M_PI - (c + 0.5) * step;
-  grid_ = RayGrid::Spherical(params_.ElevationsRad(), azimuth, Eigen::Matrix3f::Identity(), kTileBeams,
-                             kTileColumns);
+  grid_ = RayGrid::Spherical(params_.ElevationsRad(), azimuth, Eigen::Matrix3f::Identity(), kTileBeams, kTileColumns);
 }
 
 CleanScan LidarSensor::CastClean(const Scene& scene, const Isometry3& T_world_lidar, int threads) const {
-  return Cast(scene, {T_world_lidar.linear().cast<float>()}, {T_world_lidar.translation().cast<float>()},
-              threads);
+  return Cast(scene, {T_world_lidar.linear().cast<float>()}, {T_world_lidar.translation().cast<float>()}, threads);
 }
 
 CleanScan LidarSensor::CastClean(const Scene& scene, const std::function<Isometry3(double)>& T_world_lidar_at,
@@ -93,8 +91,7 @@ CleanScan LidarSensor::Cast(const Scene& scene, const std::vector<Eigen::Matrix3
       for (int b = tile.row0; b < tile.row1; ++b) {
         const Eigen::Vector3f d = Rc * grid_.Direction(b, c);
         Hit hit;
-        if (!scene.Intersect(tc, d, candidates.data(), static_cast<int>(candidates.size()), max_range, &hit,
-                             &hint))
+        if (!scene.Intersect(tc, d, candidates.data(), static_cast<int>(candidates.size()), max_range, &hit, &hint))
           continue;
         if (hit.t < min_range) continue;
         const size_t k = static_cast<size_t>(c) * out.beams + b;
@@ -144,8 +141,7 @@ SimulatedScan LidarSensor::ApplyNoise(const CleanScan& clean, uint64_t seed, int
   return scan;
 }
 
-SimulatedScan ScanLidar(const Scene& scene, const LidarParams& params, const Isometry3& T_world_lidar,
-                        uint64_t seed) {
+SimulatedScan ScanLidar(const Scene& scene, const LidarParams& params, const Isometry3& T_world_lidar, uint64_t seed) {
   const LidarSensor sensor(params);
   return sensor.ApplyNoise(sensor.CastClean(scene, T_world_lidar), seed);
 }

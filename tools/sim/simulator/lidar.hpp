@@ -53,8 +53,8 @@ class LidarSensor {
   int columns() const { return columns_; }
 
  private:
-  CleanScan Cast(const Scene& scene, const std::vector<Eigen::Matrix3f>& R,
-                 const std::vector<Eigen::Vector3f>& t, int threads) const;
+  CleanScan Cast(const Scene& scene, const std::vector<Eigen::Matrix3f>& R, const std::vector<Eigen::Vector3f>& t,
+                 int threads) const;
 
   LidarParams params_;
   int columns_;
@@ -62,7 +62,6 @@ class LidarSensor {
 };
 
 // One scan at one pose: CastClean + ApplyNoise.
-SimulatedScan ScanLidar(const Scene& scene, const LidarParams& params, const Isometry3& T_world_lidar,
-                        uint64_t seed);
+SimulatedScan ScanLidar(const Scene& scene, const LidarParams& params, const Isometry3& T_world_lidar, uint64_t seed);
 
 }  // namespace fusecal::sim

@@ -19,9 +19,7 @@ inline uint64_t SplitMix64(uint64_t x) {
 }
 
 // Seed of a sub-stream b of stream a (e.g. MixSeed(frame_seed, row)).
-inline uint64_t MixSeed(uint64_t a, uint64_t b) {
-  return SplitMix64(a ^ SplitMix64(b + 0x632BE59BD9B4E019ull));
-}
+inline uint64_t MixSeed(uint64_t a, uint64_t b) { return SplitMix64(a ^ SplitMix64(b + 0x632BE59BD9B4E019ull)); }
 
 // xoshiro256** (Blackman and Vigna), seeded through SplitMix64.
 class Rng {

@@ -11,9 +11,7 @@ namespace {
 constexpr int kTilePixels = 8;  // camera tiles: 8 x 8 pixels
 constexpr int kLattice = 4;     // camera table: Unproject every 4 rays, interpolate in between
 
-float Angle(const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
+float Angle(const Eigen::Vector3f& a, const Eigen::Vector3f& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 }  // namespace
 
 RayGrid RayGrid::Spherical(const std::vector<double>& elevation_rad, const std::vector<double>& azimuth_rad,
@@ -34,10 +32,8 @@ RayGrid RayGrid::Spherical(const std::vector<double>& elevation_rad, const std::
   return g;
 }
 
-RayGrid RayGrid::Table(int rows, int cols, std::vector<Eigen::Vector3f> directions, int tile_rows,
-                       int tile_cols) {
-  if (static_cast<size_t>(rows) * cols != directions.size())
-    throw std::invalid_argument("RayGrid::Table size");
+RayGrid RayGrid::Table(int rows, int cols, std::vector<Eigen::Vector3f> directions, int tile_rows, int tile_cols) {
+  if (static_cast<size_t>(rows) * cols != directions.size()) throw std::invalid_argument("RayGrid::Table size");
   RayGrid g;
   g.rows_ = rows;
   g.cols_ = cols;
@@ -69,8 +65,7 @@ void RayGrid::MakeTiles(int tile_rows, int tile_cols) {
       t.cos_half = std::cos(half);
       t.sin_half = std::sin(half);
       // Spacing at the tile centre, to neighbours along both directions.
-      const int rc = std::min((t.row0 + t.row1) / 2, rows_ - 1),
-                cc = std::min((t.col0 + t.col1) / 2, cols_ - 1);
+      const int rc = std::min((t.row0 + t.row1) / 2, rows_ - 1), cc = std::min((t.col0 + t.col1) / 2, cols_ - 1);
       const int rn = rc + 1 < rows_ ? rc + 1 : rc - 1, cn = cc + 1 < cols_ ? cc + 1 : cc - 1;
       t.spacing_rad = 0.0f;
       if (rn >= 0) t.spacing_rad = std::max(t.spacing_rad, Angle(Direction(rc, cc), Direction(rn, cc)));
@@ -104,8 +99,7 @@ CameraRays::CameraRays(const CameraModel& camera, int s)
   for (int i = 0; i < lr; ++i)
     for (int j = 0; j < lc; ++j) {
       const int r = std::min(i * kLattice, rows - 1), c = std::min(j * kLattice, cols - 1);
-      lattice[static_cast<size_t>(i) * lc + j] =
-          camera.Unproject(Eigen::Vector2d(pixel(c), pixel(r))).cast<float>();
+      lattice[static_cast<size_t>(i) * lc + j] = camera.Unproject(Eigen::Vector2d(pixel(c), pixel(r))).cast<float>();
     }
   std::vector<Eigen::Vector3f> dirs(static_cast<size_t>(rows) * cols);
   for (int r = 0; r < rows; ++r) {

@@ -22,8 +22,7 @@ class RayGrid {
   static RayGrid Spherical(const std::vector<double>& elevation_rad, const std::vector<double>& azimuth_rad,
                            const Eigen::Matrix3f& frame, int tile_rows, int tile_cols);
   // Explicit unit directions, row-major rows x cols (frame = identity).
-  static RayGrid Table(int rows, int cols, std::vector<Eigen::Vector3f> directions, int tile_rows,
-                       int tile_cols);
+  static RayGrid Table(int rows, int cols, std::vector<Eigen::Vector3f> directions, int tile_rows, int tile_cols);
 
   // Direction in the canonical frame; the sensor-frame direction is frame() * Direction(row, col).
   Eigen::Vector3f Direction(int row, int col) const {

@@ -24,9 +24,7 @@ std::vector<double> LidarParams::ElevationsRad() const {
   return out;
 }
 
-int LidarParams::Columns() const {
-  return std::max(1, static_cast<int>(std::lround(360.0 / azimuth_resolution_deg)));
-}
+int LidarParams::Columns() const { return std::max(1, static_cast<int>(std::lround(360.0 / azimuth_resolution_deg))); }
 
 std::string DefaultScenarioDir() { return FUSECAL_SCENARIO_DIR; }
 
@@ -48,8 +46,7 @@ Check<Vec> RangePair(double hi) {
   return [hi](const Vec& v) {
     std::string e = SizeIs(2)(v);
     if (!e.empty()) return e;
-    if (v[0] < 0 || v[1] < v[0] || v[1] > hi)
-      return "must be [min, max] with 0 <= min <= max <= " + std::to_string(hi);
+    if (v[0] < 0 || v[1] < v[0] || v[1] > hi) return "must be [min, max] with 0 <= min <= max <= " + std::to_string(hi);
     return std::string();
   };
 }
@@ -234,8 +231,6 @@ Scenario LoadScenario(const std::string& path) {
   return Read(ConfigReader::FromFile(path), std::filesystem::path(path).stem().string());
 }
 
-Scenario ParseScenario(const std::string& yaml_text) {
-  return Read(ConfigReader::FromString(yaml_text), "string");
-}
+Scenario ParseScenario(const std::string& yaml_text) { return Read(ConfigReader::FromString(yaml_text), "string"); }
 
 }  // namespace fusecal::sim

@@ -67,12 +67,12 @@ struct MotionParams {
   double still_s = 3.0;     // standing still before, between and after the motions
   double move_min_s = 2.0;  // duration of a motion (uniform in [min, max])
   double move_max_s = 3.0;
-  double translation_m = 0.2;  // extra horizontal translation per horizontal motion, at most
-  double max_drift_m = 0.6;    // the rig stays this close to its start position
+  double translation_m = 0.2;                       // extra horizontal translation per horizontal motion, at most
+  double max_drift_m = 0.6;                         // the rig stays this close to its start position
   Eigen::Vector3d yaw_pivot_m{-0.35, 0.05, -0.2};   // pivot of the turns, in the LiDAR frame
   Eigen::Vector3d tilt_pivot_m{-0.25, 0.0, -0.45};  // pivot of the tilts, in the LiDAR frame
   std::string tilt_axis = "pitch";                  // "pitch" (about LiDAR y), "roll" (about x), "alternate"
-  std::string order = "alternate";  // "alternate" (H V H V ...) or "grouped" (all H, then all V)
+  std::string order = "alternate";                  // "alternate" (H V H V ...) or "grouped" (all H, then all V)
 };
 
 struct NoiseParams {
@@ -95,8 +95,8 @@ struct Scenario {
   CameraSettings camera;
   LidarParams lidar;
   Isometry3 T_camera_lidar = Isometry3::Identity();  // at the start
-  std::vector<ExtrinsicChange> extrinsic_changes;     // in order of after_stop, one per stop at most
-  Eigen::Vector3d rig_position_m{0.4, 0.3, 1.5};  // LiDAR origin at the start, world frame (z up)
+  std::vector<ExtrinsicChange> extrinsic_changes;    // in order of after_stop, one per stop at most
+  Eigen::Vector3d rig_position_m{0.4, 0.3, 1.5};     // LiDAR origin at the start, world frame (z up)
   double rig_yaw_deg = 10.0;
   MotionParams motions;
   NoiseParams noise;

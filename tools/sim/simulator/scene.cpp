@@ -46,8 +46,8 @@ int Scene::AddMaterial(const Material& material) {
   return static_cast<int>(surfaces_.size()) - 1;
 }
 
-void Scene::AddQuad(const Eigen::Vector3f& center, const Eigen::Matrix3f& R_world_local, float half_x,
-                    float half_y, int material) {
+void Scene::AddQuad(const Eigen::Vector3f& center, const Eigen::Matrix3f& R_world_local, float half_x, float half_y,
+                    int material) {
   Primitive p;
   p.shape = Shape::kQuad;
   p.R_local_world = R_world_local.transpose();
@@ -58,8 +58,8 @@ void Scene::AddQuad(const Eigen::Vector3f& center, const Eigen::Matrix3f& R_worl
   primitives_.push_back(p);
 }
 
-void Scene::AddBox(const Eigen::Vector3f& center, const Eigen::Matrix3f& R_world_local,
-                   const Eigen::Vector3f& half, int material) {
+void Scene::AddBox(const Eigen::Vector3f& center, const Eigen::Matrix3f& R_world_local, const Eigen::Vector3f& half,
+                   int material) {
   Primitive p;
   p.shape = Shape::kBox;
   p.R_local_world = R_world_local.transpose();
@@ -116,8 +116,8 @@ void Scene::Cull(const RayCone& cone, float tmax, std::vector<Candidate>* out) c
   });
 }
 
-bool Scene::IntersectOne(const Primitive& p, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
-                         float best, Hit* hit) const {
+bool Scene::IntersectOne(const Primitive& p, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float best,
+                         Hit* hit) const {
   const Eigen::Vector3f oc = origin - p.center;
   if (p.shape == Shape::kQuad) {  // plane first: most rays miss it or hit it too far
     const float dz = p.R_local_world.row(2).dot(dir);
@@ -197,8 +197,8 @@ bool Scene::IntersectOne(const Primitive& p, const Eigen::Vector3f& origin, cons
   return false;
 }
 
-bool Scene::Intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, const Candidate* candidates,
-                      int n, float tmax, Hit* hit, int* hint) const {
+bool Scene::Intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, const Candidate* candidates, int n,
+                      float tmax, Hit* hit, int* hint) const {
   float best = tmax;
   int found = -1;
   const int first = hint && *hint >= 0 && *hint < n ? *hint : -1;
@@ -234,8 +234,7 @@ bool Scene::Intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir,
   return true;
 }
 
-const Texture& Scene::Lookup(const Hit& hit, float footprint_m, float* s, float* t, float* lod,
-                             float* gain) const {
+const Texture& Scene::Lookup(const Hit& hit, float footprint_m, float* s, float* t, float* lod, float* gain) const {
   const Surface& m = surfaces_[primitives_[hit.primitive].material];
   // Each box face and cylinder cap shows a different part of the photo.
   const float face_u = 0.61f * hit.face, face_v = 0.37f * hit.face;

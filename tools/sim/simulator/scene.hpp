@@ -63,19 +63,19 @@ class Scene {
   int AddTexture(Texture texture);
   int AddMaterial(const Material& material);  // throws when its texture does not exist
   // R_world_local: columns are the local axes in the world.
-  void AddQuad(const Eigen::Vector3f& center, const Eigen::Matrix3f& R_world_local, float half_x,
-               float half_y, int material);
-  void AddBox(const Eigen::Vector3f& center, const Eigen::Matrix3f& R_world_local,
-              const Eigen::Vector3f& half, int material);
-  void AddCylinder(const Eigen::Vector3f& center, const Eigen::Matrix3f& R_world_local, float radius,
-                   float half_height, int material);
+  void AddQuad(const Eigen::Vector3f& center, const Eigen::Matrix3f& R_world_local, float half_x, float half_y,
+               int material);
+  void AddBox(const Eigen::Vector3f& center, const Eigen::Matrix3f& R_world_local, const Eigen::Vector3f& half,
+              int material);
+  void AddCylinder(const Eigen::Vector3f& center, const Eigen::Matrix3f& R_world_local, float radius, float half_height,
+                   int material);
 
   // Primitives that rays of the cone may hit before tmax, sorted by `near`.
   void Cull(const RayCone& cone, float tmax, std::vector<Candidate>* out) const;
   // Nearest hit in (0, tmax) among the candidates; `dir` must be unit. *hint (optional): position in
   // candidates of a likely hit (the previous ray's), tried first; updated to this ray's hit.
-  bool Intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, const Candidate* candidates,
-                 int n, float tmax, Hit* hit, int* hint = nullptr) const;
+  bool Intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, const Candidate* candidates, int n,
+                 float tmax, Hit* hit, int* hint = nullptr) const;
   // Nearest hit among all primitives (no culling; for single rays).
   bool Intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float tmax, Hit* hit) const;
 

@@ -36,8 +36,7 @@ class Builder {
  public:
   explicit Builder(std::string dir) : dir_(std::move(dir)) {}
 
-  int Mat(const std::string& texture, float tile_m, float off_u = 0.0f, float off_v = 0.0f,
-          float gain = 1.0f) {
+  int Mat(const std::string& texture, float tile_m, float off_u = 0.0f, float off_v = 0.0f, float gain = 1.0f) {
     auto it = ids_.find(texture);
     if (it == ids_.end()) it = ids_.emplace(texture, scene_.AddTexture(Texture::Load(dir_, texture))).first;
     return scene_.AddMaterial({it->second, tile_m, off_u, off_v, gain});
@@ -127,8 +126,7 @@ Scene BuildOutdoorScene(const std::string& texture_dir) {
 
   const float r = 0.12f, k = static_cast<float>(M_PI) * r;
   const int pole = b.Mat("box_in_scene.jpg", k);
-  for (const auto& [x, y] :
-       {std::pair{-6.0f, 6.5f}, {4.0f, 6.5f}, {14.0f, 6.5f}, {-2.0f, -6.5f}, {10.0f, -6.5f}})
+  for (const auto& [x, y] : {std::pair{-6.0f, 6.5f}, {4.0f, 6.5f}, {14.0f, 6.5f}, {-2.0f, -6.5f}, {10.0f, -6.5f}})
     b.Pillar(x, y, r, 0, 6, pole);
   return b.Take();
 }

@@ -81,8 +81,8 @@ std::vector<Station> Simulation::Stations() const {
   std::vector<Station> out;
   for (const auto& s : trajectory_.stills()) {
     const int64_t from = ToUtime(s.t_from);
-    out.push_back({s.station_id, from, ToUtime(s.t_to), s.T_world_lidar,
-                   s.T_world_lidar * T_camera_lidar_at(from).inverse()});
+    out.push_back(
+        {s.station_id, from, ToUtime(s.t_to), s.T_world_lidar, s.T_world_lidar * T_camera_lidar_at(from).inverse()});
   }
   return out;
 }

@@ -68,8 +68,7 @@ struct Event {
 
 class Simulation {
  public:
-  explicit Simulation(const Scenario& scenario, const std::string& texture_dir = DefaultTextureDir(),
-                      int threads = 0);
+  explicit Simulation(const Scenario& scenario, const std::string& texture_dir = DefaultTextureDir(), int threads = 0);
 
   // The next event in time order (camera before LiDAR on equal utime); false after the last.
   bool Next(Event* event);

@@ -52,8 +52,7 @@ inline Bilinear Setup(float s, float t, int w, int h) {
 }  // namespace
 
 Texture Texture::FromImage(const cv::Mat& image, const std::string& name) {
-  if (image.empty() || image.depth() != CV_8U)
-    throw std::runtime_error("texture " + name + ": not an 8-bit image");
+  if (image.empty() || image.depth() != CV_8U) throw std::runtime_error("texture " + name + ": not an 8-bit image");
   cv::Mat bgr;
   if (image.channels() == 1)
     cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);

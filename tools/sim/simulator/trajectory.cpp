@@ -14,8 +14,8 @@ namespace {
 constexpr double kDegToRad = M_PI / 180.0;
 
 // Pose after rotating `start` by angle about axis through pivot, then translating.
-Isometry3 Apply(const Isometry3& start, const Eigen::Vector3d& axis, const Eigen::Vector3d& pivot,
-                double angle, const Eigen::Vector3d& translation) {
+Isometry3 Apply(const Isometry3& start, const Eigen::Vector3d& axis, const Eigen::Vector3d& pivot, double angle,
+                const Eigen::Vector3d& translation) {
   const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
   Isometry3 T = Isometry3::Identity();
   T.linear() = R * start.linear();
@@ -61,8 +61,7 @@ Isometry3 Trajectory::T_world_lidar(double t) const {
     const Motion& m = motions_[i];
     if (t < m.t_to) {
       const double s = MinimumJerk((t - m.t_from) / (m.t_to - m.t_from));
-      return Apply(stills_[i].T_world_lidar, m.axis_world, m.pivot_world, s * m.angle_rad,
-                   s * m.translation_world);
+      return Apply(stills_[i].T_world_lidar, m.axis_world, m.pivot_world, s * m.angle_rad, s * m.translation_world);
     }
   }
   return stills_.back().T_world_lidar;
@@ -77,8 +76,7 @@ int Trajectory::StillStation(double t0, double t1) const {
 Trajectory BuildTrajectory(const Scenario& scenario) {
   const MotionParams& m = scenario.motions;
   Rng rng(MixSeed(scenario.seed, 0x747261ull));  // the trajectory's own stream
-  Isometry3 T =
-      MakeIsometry(RotationFromRpy(0, 0, scenario.rig_yaw_deg * kDegToRad), scenario.rig_position_m);
+  Isometry3 T = MakeIsometry(RotationFromRpy(0, 0, scenario.rig_yaw_deg * kDegToRad), scenario.rig_position_m);
   const Eigen::Vector3d start = T.translation();
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
 
@@ -101,8 +99,8 @@ Trajectory BuildTrajectory(const Scenario& scenario) {
       motion.kind = Motion::Kind::kHorizontal;
       motion.axis_world = up;
       motion.pivot_world = T * m.yaw_pivot_m;
-      motion.angle_rad = (rng.Uniform() < 0.5 ? -1.0 : 1.0) *
-                         rng.Uniform(m.rotation_min_deg, m.rotation_max_deg) * kDegToRad;
+      motion.angle_rad =
+          (rng.Uniform() < 0.5 ? -1.0 : 1.0) * rng.Uniform(m.rotation_min_deg, m.rotation_max_deg) * kDegToRad;
       const double heading = rng.Uniform(0.0, 2.0 * M_PI);
       const double length = rng.Uniform(0.0, m.translation_m);
       motion.translation_world = length * Eigen::Vector3d(std::cos(heading), std::sin(heading), 0.0);
