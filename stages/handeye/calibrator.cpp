@@ -132,12 +132,7 @@ void Calibrator::LimitPairs() {
       SelectInformativePairs(pairs, settings_.max_motions, settings_.solver.nominal_rotation_sigma_deg);
   const std::set<int> kept(keep.begin(), keep.end());
   for (int k = 0; k < static_cast<int>(pairs.size()); ++k) {
-    if (kept.count(k)) continue;
-    const StationPair key{pairs[k].station_i, pairs[k].station_j};
-    camera_motions_.erase(key);
-    lidar_motions_.erase(key);
-    dropped_.insert(key);
-    dropped_since_version_.push_back(key);
+    if (!kept.count(k)) Drop({pairs[k].station_i, pairs[k].station_j});
   }
 }
 

@@ -63,27 +63,28 @@ double IncompleteBeta(double a, double b, double x) {
 // P(F(d1, d2) > x).
 double FSurvival(double d1, double d2, double x) { return IncompleteBeta(0.5 * d2, 0.5 * d1, d2 / (d2 + d1 * x)); }
 
+// The x with survival(x) = alpha, by bisection from [0, hi] (hi doubled until it brackets x).
+template <typename Survival>
+double UpperQuantile(const Survival& survival, double alpha, double hi) {
+  double lo = 0;
+  while (survival(hi) > alpha && hi < 1e12) hi *= 2;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (survival(mid) > alpha ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
 }  // namespace
 
 double TestThreshold(int dof, int noise_dof, double alpha) {
   if (noise_dof >= 2000) return ChiSquareQuantile(dof, alpha);
   // d^2 / dof with a noise estimated from noise_dof residuals is F(dof, noise_dof) distributed.
-  double lo = 0, hi = 1;
-  while (FSurvival(dof, noise_dof, hi) > alpha && hi < 1e12) hi *= 2;
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (FSurvival(dof, noise_dof, mid) > alpha ? lo : hi) = mid;
-  }
-  return dof * 0.5 * (lo + hi);
+  return dof * UpperQuantile([&](double x) { return FSurvival(dof, noise_dof, x); }, alpha, 1.0);
 }
 
 double ChiSquareQuantile(int dof, double alpha) {
-  double lo = 0, hi = 10.0 * dof + 200;
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (ChiSquareSurvival(dof, mid) > alpha ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
+  return UpperQuantile([&](double x) { return ChiSquareSurvival(dof, x); }, alpha, 10.0 * dof + 200);
 }
 
 PairTest TestPair(const MotionPair& pair, const HandEyeResult& estimate, const HandEyeSettings& solver,

@@ -157,9 +157,9 @@ TEST(Calibrator, AnswersToAnyButTheAwaitedVersionAreIgnored) {
   EXPECT_TRUE(calibrator.OnFusedMotions(request.version, rig.Fused(request), 0).empty());
   EXPECT_TRUE(calibrator.OnFusedMotions(request.version - 3, rig.Fused(request), 0).empty());
   EXPECT_TRUE(calibrator.OnFusedMotions(calibrator.version() + 5, rig.Fused(request), 0).empty());
-  if (next.back().asks()) {
-    EXPECT_FALSE(calibrator.OnFusedMotions(next.back().version, rig.Fused(next.back()), 0).empty());
-  }
+  // The version now awaited is answered.
+  ASSERT_TRUE(next.back().asks()) << "the round converged at its first scaled iteration";
+  EXPECT_FALSE(calibrator.OnFusedMotions(next.back().version, rig.Fused(next.back()), 0).empty());
 }
 
 TEST(Calibrator, AnUnansweredRequestIsRepeatedAfterRetryUnderTheSameVersion) {

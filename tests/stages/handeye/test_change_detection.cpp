@@ -6,6 +6,7 @@
 
 #include "foundation/se3.hpp"
 #include "handeye/calibrator.hpp"
+#include "handeye/calibrator_playback.hpp"
 #include "handeye/change_detection.hpp"
 #include "handeye/synthetic_motions.hpp"
 
@@ -33,40 +34,9 @@ struct Session {
   }
 };
 
-SensorMotion Motion(SensorMotion::Sensor sensor, const MotionPair& p, const Isometry3& T, bool scaled) {
-  SensorMotion m;
-  m.sensor = sensor;
-  m.station_i = p.station_i;
-  m.station_j = p.station_j;
-  m.valid = true;
-  m.scaled = scaled;
-  m.T_i_j = T;
-  return m;
-}
-
 // Plays the session through the loop, answering every request with the metric camera motions.
 void Play(Calibrator& calibrator, const Session& session, int from = 0, int to = -1) {
-  std::map<StationPair, Isometry3> metric;
-  for (const auto& p : session.metric) metric[{p.station_i, p.station_j}] = p.A;
-  if (to < 0) to = static_cast<int>(session.metric.size());
-  for (int k = from; k < to; ++k) {
-    const MotionPair& p = session.metric[k];
-    Isometry3 direction = p.A;
-    direction.translation().normalize();
-    calibrator.OnMotion(Motion(SensorMotion::Sensor::kLidar, p, p.B, false), 0);
-    std::vector<CalibrationVersion> versions =
-        calibrator.OnMotion(Motion(SensorMotion::Sensor::kCamera, p, direction, false), 0);
-    while (!versions.empty() && versions.back().asks()) {
-      std::vector<SensorMotion> fused;
-      for (const auto& key : versions.back().used) {
-        MotionPair q;
-        q.station_i = key.first;
-        q.station_j = key.second;
-        fused.push_back(Motion(SensorMotion::Sensor::kCamera, q, metric.at(key), true));
-      }
-      versions = calibrator.OnFusedMotions(versions.back().version, fused, 0);
-    }
-  }
+  PlayMetricPairs(calibrator, session.metric, from, to);
 }
 
 Isometry3 Delta(double roll_deg, double x_m) {

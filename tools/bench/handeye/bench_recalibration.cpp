@@ -12,12 +12,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <map>
 #include <string>
 #include <vector>
 
 #include "foundation/se3.hpp"
 #include "handeye/calibrator.hpp"
+#include "handeye/calibrator_playback.hpp"
 #include "handeye/synthetic_motions.hpp"
 
 namespace {
@@ -26,36 +26,10 @@ using namespace fusecal;
 
 constexpr int kPairs = 40, kChangeAt = 20;
 
-SensorMotion Motion(SensorMotion::Sensor sensor, int i, int j, const Isometry3& T, bool scaled) {
-  SensorMotion m;
-  m.sensor = sensor;
-  m.station_i = i;
-  m.station_j = j;
-  m.valid = true;
-  m.scaled = scaled;
-  m.T_i_j = T;
-  return m;
-}
-
 // Plays pairs[from..] through a loop that answers every request with the metric camera motions.
 Calibrator Play(const std::vector<MotionPair>& pairs, int from) {
   Calibrator calibrator{CalibratorSettings{}};
-  std::map<StationPair, Isometry3> metric;
-  for (const auto& p : pairs) metric[{p.station_i, p.station_j}] = p.A;
-  for (int k = from; k < static_cast<int>(pairs.size()); ++k) {
-    const MotionPair& p = pairs[k];
-    Isometry3 direction = p.A;
-    direction.translation().normalize();
-    calibrator.OnMotion(Motion(SensorMotion::Sensor::kLidar, p.station_i, p.station_j, p.B, false), 0);
-    auto versions =
-        calibrator.OnMotion(Motion(SensorMotion::Sensor::kCamera, p.station_i, p.station_j, direction, false), 0);
-    while (!versions.empty() && versions.back().asks()) {
-      std::vector<SensorMotion> fused;
-      for (const auto& [i, j] : versions.back().used)
-        fused.push_back(Motion(SensorMotion::Sensor::kCamera, i, j, metric.at({i, j}), true));
-      versions = calibrator.OnFusedMotions(versions.back().version, fused, 0);
-    }
-  }
+  PlayMetricPairs(calibrator, pairs, from);
   return calibrator;
 }
 

@@ -1,0 +1,17 @@
+// Playing motion pairs through the calibration loop as the pipeline would (tests and benchmarks): for each
+// pair its LiDAR motion, then its camera motion as the front end gives it (translation a direction), and
+// every request answered at once with the metric camera motions of the pairs it lists, as fusion odometry
+// would.
+#pragma once
+
+#include <vector>
+
+#include "handeye/calibrator.hpp"
+
+namespace fusecal {
+
+// Pairs [from, to) of `pairs` (to < 0: to the end); `pairs` holds the metric camera motions A of every pair
+// a request may list.
+void PlayMetricPairs(Calibrator& calibrator, const std::vector<MotionPair>& pairs, int from = 0, int to = -1);
+
+}  // namespace fusecal
