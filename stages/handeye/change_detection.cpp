@@ -1,8 +1,11 @@
 #include "handeye/change_detection.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "handeye/pair_model.hpp"
 
@@ -13,6 +16,7 @@ std::string ChangeDetectionSettings::Validate() const {
   if (!(confirm_probability > 0 && confirm_probability < 0.5)) return "confirm_probability: must be in (0, 0.5)";
   if (window < 2 || window > 100) return "window: must be in [2, 100]";
   if (!(noise_floor_fraction >= 0 && noise_floor_fraction <= 1)) return "noise_floor_fraction: must be in [0, 1]";
+  if (!(min_direction_length >= 0 && min_direction_length < 1e6)) return "min_direction_length: must be >= 0";
   return "";
 }
 
@@ -78,7 +82,7 @@ double UpperQuantile(const Survival& survival, double alpha, double hi) {
 }  // namespace
 
 double TestThreshold(int dof, int noise_dof, double alpha) {
-  if (noise_dof >= 2000) return ChiSquareQuantile(dof, alpha);
+  if (noise_dof >= kKnownNoiseDof) return ChiSquareQuantile(dof, alpha);
   // d^2 / dof with a noise estimated from noise_dof residuals is F(dof, noise_dof) distributed.
   return dof * UpperQuantile([&](double x) { return FSurvival(dof, noise_dof, x); }, alpha, 1.0);
 }
@@ -87,32 +91,75 @@ double ChiSquareQuantile(int dof, double alpha) {
   return UpperQuantile([&](double x) { return ChiSquareSurvival(dof, x); }, alpha, 10.0 * dof + 200);
 }
 
-PairTest TestPair(const MotionPair& pair, const HandEyeResult& estimate, const HandEyeSettings& solver,
+namespace {
+
+// The residuals a pair is tested on, as rows M (k x 6) of [r_rot ; r_t], and the pair with a metric camera
+// translation. A metric camera motion: all six. A scaleless one gives the direction u of its translation
+// only: the scale s that fits it best at (R, t) is taken as measured and the residual along u, which s
+// absorbs, is left out (r_t in the plane Q normal to u, 2 of 3); without a direction (a turn on the spot,
+// a translation below `min_length_m` at that scale) the rotation alone.
+Eigen::MatrixXd TestedResiduals(MotionPair* pair, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                                double min_length_m) {
+  if (pair->camera_scaled) return Eigen::MatrixXd::Identity(6, 6);
+  Eigen::MatrixXd rotation_only = Eigen::MatrixXd::Zero(3, 6);
+  rotation_only.leftCols(3).setIdentity();
+  const Eigen::Vector3d t_a = pair->A.translation();
+  if (!(t_a.norm() > 0)) return rotation_only;
+  const Eigen::Vector3d u = t_a.normalized();
+  // r_t = (R_a - I) t + s u - R t_b, least at s = u . (R t_b - (R_a - I) t).
+  const double s = u.dot(R * pair->B.translation() - (pair->A.linear() - Eigen::Matrix3d::Identity()) * t);
+  if (!(s > min_length_m)) return rotation_only;
+  pair->A.translation() = s * u;
+  pair->camera_scaled = true;
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(u * u.transpose(), Eigen::ComputeFullU);
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(5, 6);
+  M.topLeftCorner(3, 3).setIdentity();
+  M.bottomRightCorner(2, 3) = svd.matrixU().rightCols(2).transpose();  // the plane normal to u
+  return M;
+}
+
+}  // namespace
+
+PairTest TestPair(const MotionPair& measured, const HandEyeResult& estimate, const HandEyeSettings& solver,
                   const ChangeDetectionSettings& settings) {
   PairTest test;
-  test.station_i = pair.station_i;
-  test.station_j = pair.station_j;
+  test.station_i = measured.station_i;
+  test.station_j = measured.station_j;
+  test.metric = measured.camera_scaled;
   const Eigen::Matrix3d R = estimate.T_camera_lidar.linear();
   const Eigen::Vector3d t = estimate.T_camera_lidar.translation();
   handeye::NoiseModel noise;
   const double floor = settings.noise_floor_fraction;
-  noise.rot_sigma_rad = std::max(estimate.noise_rot_deg, floor * solver.nominal_rotation_sigma_deg) * M_PI / 180.0;
-  noise.trans_sigma_m = std::max(estimate.noise_trans_m, floor * solver.nominal_translation_sigma_m);
-  // That noise is itself estimated, from about 3 residuals per pair less the 6 unknowns.
-  test.noise_dof = std::max(1, 3 * static_cast<int>(estimate.used_pairs.size()) - 6);
+  const double rot_floor_deg = floor * solver.nominal_rotation_sigma_deg;
+  const double trans_floor_m = floor * solver.nominal_translation_sigma_m;
+  noise.rot_sigma_rad = std::max(estimate.noise_rot_deg, rot_floor_deg) * M_PI / 180.0;
+  noise.trans_sigma_m = std::max(estimate.noise_trans_m, trans_floor_m);
+  // That noise is itself estimated, rotation and translation each from 3 residuals per pair less 3
+  // unknowns; where the floor holds both, it is a known value (chi^2).
+  const bool floored = estimate.noise_rot_deg <= rot_floor_deg && estimate.noise_trans_m <= trans_floor_m;
+  test.noise_dof = floored ? kKnownNoiseDof : std::max(1, 3 * static_cast<int>(estimate.used_pairs.size()) - 6);
+  MotionPair pair = measured;
+  const Eigen::MatrixXd M = TestedResiduals(&pair, R, t, settings.min_direction_length * noise.trans_sigma_m);
   const Matrix6 J_X = handeye::JacobianWrtExtrinsic(pair, R);
-  Matrix6 C = handeye::ResidualCovariance(pair, R, t, noise) + J_X * estimate.covariance * J_X.transpose();
-  const Vector6 r = handeye::PairResidual(pair, R, t);
-  // A scaleless camera motion gives its direction only: its rotation residual is tested alone.
-  test.dof = pair.camera_scaled ? 6 : 3;
-  const Eigen::VectorXd r_k = r.head(test.dof);
-  const Eigen::MatrixXd C_k = C.topLeftCorner(test.dof, test.dof);
+  const Matrix6 C_pair = handeye::ResidualCovariance(pair, R, t, noise);
+  const Matrix6 C = C_pair + J_X * estimate.covariance * J_X.transpose();
+  const Eigen::VectorXd r_k = M * handeye::PairResidual(pair, R, t);
+  const Eigen::MatrixXd C_k = M * C * M.transpose();
+  test.dof = static_cast<int>(M.rows());
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(C_k);
   test.d2 = r_k.dot(ldlt.solve(r_k));
-  const Eigen::MatrixXd W = handeye::WhiteningMatrix(C_k);
-  test.whitened_jacobian = W * J_X.topRows(test.dof);
+  // The pairs tested against one estimate share its error: the rule whitens by the pair's own noise and
+  // takes the estimate's covariance once (ChangeLikelihoodRatio).
+  const Eigen::MatrixXd W = handeye::WhiteningMatrix(M * C_pair * M.transpose());
+  test.estimate_covariance = estimate.covariance;
+  test.whitened_jacobian = W * M * J_X;
   test.whitened_residual = W * r_k;
-  if (!std::isfinite(test.d2) || ldlt.info() != Eigen::Success || !test.whitened_jacobian.allFinite()) {
+  // The pair across a change: A = X B X'^-1 with X' = (R Exp(phi), t + tau) gives r = [-phi ; -R R_b R^T tau].
+  Matrix6 K = -Matrix6::Identity();
+  K.bottomRightCorner<3, 3>() = -R * pair.B.linear() * R.transpose();
+  test.whitened_change_jacobian = W * M * K;
+  if (!std::isfinite(test.d2) || ldlt.info() != Eigen::Success || !test.whitened_jacobian.allFinite() ||
+      !test.whitened_change_jacobian.allFinite()) {
     test.dof = 0;  // nothing to test (non-finite motion or covariance)
     test.d2 = 0;
     return test;
@@ -122,45 +169,128 @@ PairTest TestPair(const MotionPair& pair, const HandEyeResult& estimate, const H
 }
 
 bool ChangeDetector::Suspicious() const {
-  return std::any_of(recent_.begin(), recent_.end(), [](const PairTest& t) { return t.off; });
+  return std::any_of(recent_.begin(), recent_.end(), [](const TestedPair& t) { return t.off; });
 }
 
-std::pair<double, int> ChangeLikelihoodRatio(const std::vector<PairTest>& tests) {
+namespace {
+
+// Over `tests`, what they say of a common change delta: H = sum G_i^T G_i and g = sum G_i^T w_i.
+std::pair<Matrix6, Vector6> Information(const std::vector<PairTest>& tests) {
   Matrix6 H = Matrix6::Zero();
   Vector6 g = Vector6::Zero();
   for (const PairTest& t : tests) {
     H += t.whitened_jacobian.transpose() * t.whitened_jacobian;
     g += t.whitened_jacobian.transpose() * t.whitened_residual;
   }
+  return {H, g};
+}
+
+}  // namespace
+
+std::pair<double, int> ChangeLikelihoodRatio(const std::vector<PairTest>& tests) {
+  if (tests.empty()) return {0.0, 0};
+  const auto [H, g] = Information(tests);
+  // delta_hat = -H^+ g (pairs after a change show r_i = -J_X delta) with the covariance H^+ of their own
+  // noise, plus S_X: the estimate they are tested against errs by e ~ N(0, S_X), which shows in every
+  // one of them as a change of -e would. Over the directions H sees (V):
+  //   lambda = delta_hat^T (H^+ + S_X)^-1 delta_hat.
   std::vector<Eigen::VectorXd> nulls;
   const Eigen::MatrixXd H_pinv = handeye::PseudoInverse(H, &nulls);
-  return {g.dot(H_pinv * g), 6 - static_cast<int>(nulls.size())};
+  const Vector6 delta = -H_pinv * g;
+  const Eigen::SelfAdjointEigenSolver<Matrix6> eig(H);
+  const int rank = 6 - static_cast<int>(nulls.size());
+  if (rank == 0) return {0.0, 0};
+  const Eigen::MatrixXd V = eig.eigenvectors().rightCols(rank);  // eigenvalues ascending
+  const Eigen::MatrixXd C = V.transpose() * (H_pinv + tests.back().estimate_covariance) * V;
+  const Eigen::VectorXd d = V.transpose() * delta;
+  return {d.dot(C.ldlt().solve(d)), rank};
+}
+
+double DirectedChangeScore(const PairTest& across, const std::vector<PairTest>& after) {
+  const Eigen::MatrixXd& K = across.whitened_change_jacobian;
+  if (after.empty() || K.cols() != 6 || K.rows() != across.whitened_residual.size() || K.rows() == 0) return 0;
+  const Eigen::VectorXd u = handeye::PseudoInverse(K.transpose() * K) * (K.transpose() * across.whitened_residual);
+  const auto [H, g] = Information(after);
+  const double spread = u.dot(H * u);
+  if (!(spread > 0) || !std::isfinite(spread)) return 0;
+  // The size a of delta = a u that the pairs after it show, a = -u^T g / u^T H u (r_i = -J_X delta), and
+  // its variance: their own noise, 1 / u^T H u, and the estimate's error they share.
+  const double a = -g.dot(u) / spread;
+  const Vector6 Hu = H * u;
+  const double variance = 1.0 / spread + Hu.dot(after.back().estimate_covariance * Hu) / (spread * spread);
+  return a / std::sqrt(variance);
+}
+
+const PairTest& TestedPair::Evidence(bool metric) const {
+  for (const PairTest& t : tests)
+    if (t.metric == metric) return t;
+  return tests.front();
+}
+
+bool ChangeDetector::Confirms(const TestedPair& candidate, bool metric) const {
+  std::vector<PairTest> after;
+  for (const TestedPair& t : recent_)
+    if (t.station_i >= candidate.station_j) after.push_back(t.Evidence(metric));
+  if (after.empty()) return false;
+  const int noise_dof = after.back().noise_dof;
+  const auto [lambda, dof] = ChangeLikelihoodRatio(after);
+  if (dof > 0 && lambda > TestThreshold(dof, noise_dof, settings_.confirm_probability)) return true;
+  // One-sided: z > c with P = beta is z^2 > c^2 with P = 2 beta on one degree of freedom.
+  const double z = DirectedChangeScore(candidate.Evidence(metric), after);
+  return z > 0 && z * z > TestThreshold(1, noise_dof, 2 * settings_.confirm_probability);
+}
+
+const TestedPair& ChangeDetector::Locate(const TestedPair& confirmed, bool metric) const {
+  const TestedPair* best = &confirmed;
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (const TestedPair& across : recent_) {
+    if (across.station_j > confirmed.station_j) continue;
+    // Pairs before it fit the estimate (w_i ~ 0), it fits K delta, the pairs after it -G_i delta.
+    double cost = 0;
+    Eigen::MatrixXd A(0, 6);
+    Eigen::VectorXd b(0);
+    const auto append = [&](const Eigen::MatrixXd& rows, const Eigen::VectorXd& values) {
+      A.conservativeResize(A.rows() + rows.rows(), Eigen::NoChange);
+      A.bottomRows(rows.rows()) = rows;
+      b.conservativeResize(b.size() + values.size());
+      b.tail(values.size()) = values;
+    };
+    for (const TestedPair& t : recent_) {
+      const PairTest& e = t.Evidence(metric);
+      if (t.station_j <= across.station_i) cost += e.whitened_residual.squaredNorm();
+      if (&t == &across) append(e.whitened_change_jacobian, e.whitened_residual);
+      if (t.station_i >= across.station_j) append(-e.whitened_jacobian, e.whitened_residual);
+    }
+    const Vector6 delta = handeye::PseudoInverse(A.transpose() * A) * (A.transpose() * b);
+    cost += (A * delta - b).squaredNorm();
+    if (cost < best_cost) best_cost = cost, best = &across;
+  }
+  return *best;
 }
 
 std::optional<int> ChangeDetector::Add(const PairTest& test) {
   if (!settings_.enabled || test.dof == 0) return std::nullopt;
-  const auto same = std::find_if(recent_.begin(), recent_.end(), [&](const PairTest& t) {
+  const auto same = std::find_if(recent_.begin(), recent_.end(), [&](const TestedPair& t) {
     return t.station_i == test.station_i && t.station_j == test.station_j;
   });
   if (same != recent_.end()) {
-    const bool was_off = same->off;
-    if (test.dof >= same->dof) *same = test;  // the metric test replaces the rotation-only one
-    same->off = was_off || test.off;
+    auto& tests = same->tests;
+    tests.erase(std::remove_if(tests.begin(), tests.end(), [&](const PairTest& t) { return t.metric == test.metric; }),
+                tests.end());
+    same->tests.push_back(test);
+    same->off = same->off || test.off;
   } else {
-    recent_.push_back(test);
+    recent_.push_back({test.station_i, test.station_j, test.off, {test}});
     while (static_cast<int>(recent_.size()) > settings_.window) recent_.pop_front();
   }
-  for (const PairTest& candidate : recent_) {
+  for (const TestedPair& candidate : recent_) {
     if (!candidate.off) continue;
-    std::vector<PairTest> after;
-    for (const PairTest& t : recent_)
-      if (t.station_i >= candidate.station_j) after.push_back(t);
-    if (after.empty()) continue;
-    const auto [lambda, dof] = ChangeLikelihoodRatio(after);
-    if (dof == 0 || lambda <= TestThreshold(dof, after.back().noise_dof, settings_.confirm_probability)) continue;
-    const int after_station = candidate.station_i;
-    recent_.clear();
-    return after_station;
+    for (const bool metric : {false, true}) {
+      if (!Confirms(candidate, metric)) continue;
+      const int after_station = Locate(candidate, metric).station_i;
+      recent_.clear();
+      return after_station;
+    }
   }
   return std::nullopt;
 }

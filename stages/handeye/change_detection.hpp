@@ -4,36 +4,51 @@
 // solve: its residual r = [Log(R_b^T R^T R_a R) ; (R_a - I) t + s t_a - R t_b] (the paper's A X = X B,
 // handeye/pair_model.hpp) has, if X still holds, the covariance
 //   C = J_A S_A J_A^T + J_B S_B J_B^T + J_X S_X J_X^T
-// (the pair's own noise at the noise the estimate's residuals show, and the estimate's covariance S_X), so
-//   d^2 = r^T C^-1 r,   d^2 / k  ~  F(k, nu),   k = 6 for a metric camera motion, 3 (rotation only) for a
-// scaleless one, nu = 3 n - 6 the residuals the noise of a solve of n pairs was estimated from (chi^2(k)
-// for many pairs; a solve of few pairs fits its residuals too well, and the F quantile allows for that).
+// (the pair's own noise at the noise the estimate's residuals show, never below a floor, and the estimate's
+// covariance S_X), so
+//   d^2 = r^T C^-1 r,   d^2 / k  ~  F(k, nu),   k = 6 for a metric camera motion, nu = 3 n - 3 the
+// residuals the noise of a solve of n pairs was estimated from (chi^2(k) for many pairs; a solve of few
+// pairs fits its residuals too well, and the F quantile allows for that; chi^2(k) also where the floor
+// holds, a noise not estimated but stated). A scaleless camera motion gives
+// the direction of its translation only: it is tested at the scale that fits it best, on the rotation and
+// the two components of r_t normal to that direction (k = 5; k = 3, the rotation alone, for a turn on
+// the spot). Its direction comes from the images alone, so a translation of the camera on its mount
+// shows there even where fusion odometry, which places the LiDAR's points with the estimate, hides it.
 // The pair is "off" when d^2 exceeds the quantile 1 - alpha (alpha = off_probability).
 //
-// Each pair is tested twice: on arrival with its scaleless camera motion (rotation only; also a pair the
-// solve will reject as an outlier is tested), and with the metric camera motion fusion odometry gives for
-// it (all six). It is off when either test is. While the newest pairs hold an off pair, they are tested
-// against the estimate from before it (the reference), so that pairs after a change do not pull the
-// estimate they are tested against.
+// Each pair is tested twice: on arrival with its scaleless camera motion (also a pair the solve will
+// reject as an outlier is tested), and with the metric camera motion fusion odometry gives for it. It is off when
+// either test is. While the newest pairs hold an off pair, they are tested against the estimate from before it (the
+// reference), so that pairs after a change do not pull the estimate they are tested against.
 //
 // Rule (a change, not an outlier). A change makes the pair across it off (the pair that spans the change
 // mixes both extrinsics, A = X B X'^-1, and shows the whole change whatever its turn), and the pairs after
 // it all fit one other extrinsic X Exp(delta). So the extrinsic changed after station_i of an off pair of
-// the newest `window` when the pairs after it, together, reject delta = 0: with whitened residuals w_i
-// and Jacobians G_i (d w_i / d delta) of those pairs, the generalised likelihood ratio
-//   lambda = g^T H^+ g,   g = sum G_i^T w_i,   H = sum G_i^T G_i,
-// exceeds the quantile 1 - confirm_probability on rank(H) degrees of freedom (F as above). A single bad pair is off
-// alone: the pairs after it fit the estimate and it stays an outlier for the solver's rejection. With
-// Gaussian noise a pair is off with probability below 2 alpha and a false alarm needs the next pairs to
-// confirm at beta: below 2 alpha beta (window - 1) = 2e-6 per pair at the defaults, about one session in
-// 1600 of 300 stations.
-// A pair tells a change only across its turn: the rotation residual of a pair turning by theta shows
-// about 2 sin(theta / 2) of a rotation change, so changes far below the noise stay undetected and go into
+// the newest `window` when the pairs after it, together, reject delta = 0: with residuals w_i whitened by
+// each pair's own noise and Jacobians G_i (d w_i / d delta) of those pairs, delta_hat = -H^+ g
+// (g = sum G_i^T w_i, H = sum G_i^T G_i) and the likelihood ratio
+//   lambda = delta_hat^T (H^+ + S_X)^-1 delta_hat
+// (S_X once: the estimate's error is common to all of them and looks like a change) exceeds the quantile 1 -
+// confirm_probability on rank(H) degrees of freedom (F as above), or when they confirm the change the off pair itself
+// shows (the directed test). The pair across the change sees the whole change, r_s = K delta with K = [[-I, 0], [0, -R
+// R_b R^T]] (from A = X B X'^-1), while a pair after it sees only its part across its turn, r_i = -J_X delta (a
+// translation dt as (R_a - I) dt). So the off pair's own delta_s = K^+ r_s (whitened) gives the direction u, and the
+// pairs after it are tested along u alone:  z = a / std(a),  a = -g^T u / u^T H u,  a change when z exceeds the
+// one-sided 1 - confirm_probability quantile (t with the noise's degrees of freedom). Whatever the off pair holds, z is
+// N(0, 1) when the pairs after it fit X, so an outlier confirms with probability beta here too. A single bad pair is
+// off alone: the pairs after it fit the estimate and it stays an outlier for the solver's rejection. With Gaussian
+// noise a pair is off with probability below 2 alpha and a false alarm needs the next pairs to confirm by either test,
+// with the scaleless or the metric motions, at beta: below 8 alpha beta (window - 1) = 8e-6 per pair at the defaults,
+// about one session in 400 of 300 stations. Where the pair across the change was not off alone (a change near the
+// noise), a later one was: the change is then placed across the pair of the newest that splits them best
+// (ChangeDetector::Locate). A pair tells a change only across its turn: the rotation residual of a pair turning by
+// theta shows about 2 sin(theta / 2) of a rotation change, so changes far below the noise stay undetected and go into
 // the estimate's residuals and std instead.
 #pragma once
 
 #include <deque>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -47,7 +62,10 @@ struct ChangeDetectionSettings {
   double confirm_probability = 1e-3;  // beta: chance that pairs of an unchanged rig confirm an off pair
   int window = 3;                     // newest tested pairs the rule looks at
   // The pair's noise is the noise the estimate's residuals show, at least this fraction of the nominal.
-  double noise_floor_fraction = 0.1;
+  double noise_floor_fraction = 0.05;
+  // A scaleless camera motion's direction is tested when its translation is at least this many times the
+  // translation noise (a turn on the spot has no direction).
+  double min_direction_length = 10.0;
 
   // Empty when usable, else the field and what is wrong.
   std::string Validate() const;
@@ -64,12 +82,17 @@ struct ExtrinsicChange {
 struct PairTest {
   int station_i = -1;
   int station_j = -1;
-  double d2 = 0;  // r^T C^-1 r
+  bool metric = false;  // of the metric camera motion, else of the scaleless one
+  double d2 = 0;        // r^T C^-1 r
   int dof = 0;
   int noise_dof = 0;  // residuals the noise of the estimate tested against was estimated from
   bool off = false;
-  Eigen::MatrixXd whitened_jacobian;  // W J_X (dof x 6), W^T W = C^-1: the residual's response to delta
-  Eigen::VectorXd whitened_residual;  // W r
+  // Whitened by the pair's own noise (W^T W = (J_A S_A J_A^T + J_B S_B J_B^T)^-1):
+  Eigen::MatrixXd whitened_jacobian;              // W J_X (dof x 6): the residual's response to delta
+  Eigen::VectorXd whitened_residual;              // W r
+  Matrix6 estimate_covariance = Matrix6::Zero();  // S_X of the estimate it was tested against
+  // W K (dof x 6): the residual of this pair if the extrinsic changed by delta during its motion.
+  Eigen::MatrixXd whitened_change_jacobian;
 };
 
 // The test of `pair` against the estimate `estimate` (its covariance and the noise its residuals showed,
@@ -80,6 +103,13 @@ PairTest TestPair(const MotionPair& pair, const HandEyeResult& estimate, const H
 // The likelihood ratio of a common change delta over `tests` (the rule above) and its degrees of freedom.
 std::pair<double, int> ChangeLikelihoodRatio(const std::vector<PairTest>& tests);
 
+// The directed test (the rule above): z of the pairs `after` along the change that `across` shows; 0 when
+// it shows none.
+double DirectedChangeScore(const PairTest& across, const std::vector<PairTest>& after);
+
+// noise_dof of a noise known (not estimated), and from which on F(k, nu) is chi^2(k) / k to 0.2 %.
+inline constexpr int kKnownNoiseDof = 2000;
+
 // The threshold of d^2 for upper-tail probability `alpha` with `dof` tested residuals whose noise was
 // estimated from `noise_dof` residuals: dof times the F(dof, noise_dof) quantile.
 double TestThreshold(int dof, int noise_dof, double alpha);
@@ -87,21 +117,40 @@ double TestThreshold(int dof, int noise_dof, double alpha);
 // The chi^2 quantile for upper-tail probability `alpha` with `dof` degrees of freedom.
 double ChiSquareQuantile(int dof, double alpha);
 
+// A pair's tests: of its scaleless camera motion, of its metric one, or both.
+struct TestedPair {
+  int station_i = -1;
+  int station_j = -1;
+  bool off = false;  // either test is
+  std::vector<PairTest> tests;
+  // The test of that kind, else the other.
+  const PairTest& Evidence(bool metric) const;
+};
+
 // The rule above over the pairs tested since the last change, in their order of arrival.
 class ChangeDetector {
  public:
   explicit ChangeDetector(ChangeDetectionSettings settings = {}) : settings_(settings) {}
   // Adds the newest test, or the second test of a pair already there (off when either is); the station
-  // after which the extrinsic changed when the rule decides.
+  // after which the extrinsic changed when the rule decides. The pairs after an off pair confirm it by
+  // the tests of their scaleless motions or by those of their metric ones: fusion odometry places the
+  // LiDAR's points with the estimate, which moves a metric motion toward it, while the images' direction
+  // does not see a change along the camera's own path.
   std::optional<int> Add(const PairTest& test);
   void Reset() { recent_.clear(); }
   // Whether the newest pairs hold an off pair (a change may be under way).
   bool Suspicious() const;
-  const std::deque<PairTest>& recent() const { return recent_; }
+  const std::deque<TestedPair>& recent() const { return recent_; }
 
  private:
+  // Whether the pairs after `candidate` confirm it, by their tests of that kind where they have one.
+  bool Confirms(const TestedPair& candidate, bool metric) const;
+  // The pair across the change among the newest up to `confirmed`: the split that explains them best (least
+  // whitened squares: pairs before it fit the estimate, it fits K delta, the pairs after it -J_X delta).
+  const TestedPair& Locate(const TestedPair& confirmed, bool metric) const;
+
   ChangeDetectionSettings settings_;
-  std::deque<PairTest> recent_;
+  std::deque<TestedPair> recent_;
 };
 
 }  // namespace fusecal

@@ -68,6 +68,7 @@ PairTest MakeTest(int i, double d2, bool off, const Vector6& residual) {
   t.noise_dof = 10000;  // a known noise
   t.off = off;
   t.whitened_jacobian = Eigen::MatrixXd::Identity(6, 6);
+  t.whitened_change_jacobian = -Eigen::MatrixXd::Identity(6, 6);
   t.whitened_residual = residual;
   return t;
 }
@@ -84,13 +85,38 @@ TEST(ChangeDetector, AnOffPairIsAChangeOnlyWhenThePairsAfterItConfirmIt) {
   ASSERT_TRUE(change);
   EXPECT_EQ(*change, 4) << "the change lies in the off pair";
   EXPECT_TRUE(detector.recent().empty());
-  // The second test of a pair replaces its first (a higher dof) and keeps it off.
+  // A second test of the same kind replaces the first, and the pair stays off.
   EXPECT_FALSE(detector.Add(MakeTest(6, 100, true, moved)));
   PairTest metric = MakeTest(6, 1, false, quiet);
   EXPECT_FALSE(detector.Add(metric));
   ASSERT_EQ(detector.recent().size(), 1u);
   EXPECT_TRUE(detector.recent()[0].off);
   EXPECT_TRUE(detector.Suspicious());
+}
+
+TEST(ChangeDetector, PairsAfterTheChangeConfirmTheChangeThatTheOffPairShows) {
+  // A translation across turns: the pair across the change shows all of it, a pair after it 0.3 of it,
+  // too little for the test of a common change in any direction, enough along the one the off pair shows.
+  const auto play = [](double after_sign) {
+    ChangeDetector detector;
+    Vector6 delta = Vector6::Zero();
+    delta(3) = 8;
+    EXPECT_FALSE(detector.Add(MakeTest(0, 64, true, -delta)));  // r_s = K delta, K = -I
+    std::optional<int> change;
+    for (int k = 1; k <= 2; ++k) {
+      PairTest after = MakeTest(k, 5.8, false, -0.3 * after_sign * delta);  // r_i = -J_X delta
+      after.whitened_jacobian *= 0.3;
+      change = detector.Add(after);
+      if (k == 1) {
+        EXPECT_FALSE(change) << "one pair after it is not enough";
+      }
+    }
+    return change;
+  };
+  const auto change = play(1.0);
+  ASSERT_TRUE(change);
+  EXPECT_EQ(*change, 0);
+  EXPECT_FALSE(play(-1.0)) << "pairs that move the other way do not confirm it";
 }
 
 TEST(Calibrator, DetectsAMovedCameraWithinThreePairsAndConvergesToTheNewExtrinsic) {
