@@ -58,7 +58,7 @@ void Ros2TfNode::Start(Bus& bus) {
 }
 
 void Ros2TfNode::Tick(Bus&, int64_t now_utime) {
-  if (diagnostics_writer_ <= 0 || !extrinsic_ || now_utime - last_diagnostics_utime_ < kDiagnosticsPeriodUs) return;
+  if (diagnostics_writer_ <= 0 || !latest_ || now_utime - last_diagnostics_utime_ < kDiagnosticsPeriodUs) return;
   last_diagnostics_utime_ = now_utime;
   PublishDiagnostics();
 }
@@ -67,6 +67,13 @@ void Ros2TfNode::Tick(Bus&, int64_t now_utime) {
 // transform of child_frame_id in header.frame_id.
 void Ros2TfNode::OnExtrinsic(const extrinsic_t& e) {
   if (e.version <= last_version_) return;  // a repeat (retry) of a version already published
+  last_version_ = e.version;
+  latest_ = std::make_unique<extrinsic_t>(e);
+  if (e.status == extrinsic_t::STATUS_FAILED) {
+    // No estimate (e.g. just after a change of the rig): tf_static keeps the one it has; the diagnostics say so.
+    if (diagnostics_writer_ > 0) PublishDiagnostics();
+    return;
+  }
   const Isometry3 T = FromRowMajor(e.T_camera_lidar);
   const Eigen::Quaterniond q(T.linear());
   geometry_msgs_msg_dds__TransformStamped_ transform{};
@@ -82,7 +89,6 @@ void Ros2TfNode::OnExtrinsic(const extrinsic_t& e) {
   message.transforms_._release = false;
   if (const dds_return_t rc = dds_write(writer_, &message); rc < 0)
     throw std::runtime_error("ros2_tf: writing rt/tf_static failed: " + DdsErrorText(rc));
-  last_version_ = e.version;
   ++published_;
   extrinsic_ = std::make_unique<extrinsic_t>(e);
   PublishOverlay();
@@ -113,7 +119,7 @@ void Ros2TfNode::PublishOverlay() {
 }
 
 void Ros2TfNode::PublishDiagnostics() {
-  const DiagnosticReport report = DescribeExtrinsic(*extrinsic_);
+  const DiagnosticReport report = DescribeExtrinsic(*latest_, extrinsic_.get());
   std::vector<diagnostic_msgs_msg_dds__KeyValue_> values;
   for (const auto& [key, value] : report.values)
     values.push_back({const_cast<char*>(key.c_str()), const_cast<char*>(value.c_str())});
@@ -126,7 +132,7 @@ void Ros2TfNode::PublishDiagnostics() {
   status.values_._buffer = values.data();
   status.values_._release = false;
   diagnostic_msgs_msg_dds__DiagnosticArray_ array{};
-  const RosTime stamp = UtimeToRosStamp(extrinsic_->utime);
+  const RosTime stamp = UtimeToRosStamp(latest_->utime);
   array.header_.stamp_.sec_ = static_cast<int32_t>(stamp.sec);
   array.header_.stamp_.nanosec_ = stamp.nsec;
   array.header_.frame_id_ = const_cast<char*>("");

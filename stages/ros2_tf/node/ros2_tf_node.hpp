@@ -37,6 +37,7 @@ class Ros2TfNode : public StageNode {
   int overlay_writer_ = 0, diagnostics_writer_ = 0;
   std::unique_ptr<station_t> station_;      // the latest, for the overlay
   std::unique_ptr<extrinsic_t> extrinsic_;  // the latest published
+  std::unique_ptr<extrinsic_t> latest_;     // the latest received (a failed one is not published)
   int64_t last_diagnostics_utime_ = 0;
   int overlays_ = 0, diagnostics_ = 0;
   std::vector<Subscription> subscriptions_;

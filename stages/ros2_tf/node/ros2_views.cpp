@@ -48,9 +48,11 @@ cv::Mat DrawPointsOnImage(const cv::Mat& image, const PointCloud& cloud, const C
   return out;
 }
 
-DiagnosticReport DescribeExtrinsic(const extrinsic_t& e) {
+DiagnosticReport DescribeExtrinsic(const extrinsic_t& latest, const extrinsic_t* held) {
   DiagnosticReport report;
-  switch (e.status) {
+  const bool holding = latest.status == extrinsic_t::STATUS_FAILED && held;
+  const extrinsic_t& e = holding ? *held : latest;
+  switch (latest.status) {
     case extrinsic_t::STATUS_CONVERGED:
       report.level = 0;
       break;
@@ -62,14 +64,19 @@ DiagnosticReport DescribeExtrinsic(const extrinsic_t& e) {
     default:
       report.level = 2;
   }
-  report.message = std::string(ExtrinsicStatusName(e.status)) + " (" + ObservabilityName(e.observability) + ")";
-  if (!e.message.empty()) report.message += ": " + e.message;
+  report.message =
+      std::string(ExtrinsicStatusName(latest.status)) + " (" + ObservabilityName(latest.observability) + ")";
+  if (!latest.message.empty()) report.message += ": " + latest.message;
+  if (holding) {
+    report.level = 1;
+    report.message += "; tf_static holds version " + std::to_string(held->version);
+  }
   const Isometry3 T = FromRowMajor(e.T_camera_lidar);
   const Matrix6 covariance = Matrix6FromArray(e.covariance);
   report.values = {
       {"version", std::to_string(e.version)},
       {"iteration", std::to_string(e.iteration)},
-      {"status", ExtrinsicStatusName(e.status)},
+      {"status", ExtrinsicStatusName(latest.status)},
       {"observability", ObservabilityName(e.observability)},
       {"translation_m", Vector(T.translation(), 4)},
       {"rpy_deg", Vector(RpyFromRotation(T.linear()) * 180.0 / M_PI, 3)},
@@ -79,13 +86,14 @@ DiagnosticReport DescribeExtrinsic(const extrinsic_t& e) {
       {"motions_rejected", std::to_string(e.num_rejected)},
       {"residual_rms_m", Number(e.residual_rms, 5)},
   };
-  if (e.num_changes > 0) {
+  if (holding) report.values.push_back({"tf_static_version", std::to_string(held->version)});
+  if (latest.num_changes > 0) {
     // The rig changed: the loop solves again from the motions after the newest change (WARN until converged).
-    const int after = e.change_after_station.back();
+    const int after = latest.change_after_station.back();
     report.message += "; extrinsic changed after station " + std::to_string(after);
-    report.values.push_back({"changes", std::to_string(e.num_changes)});
+    report.values.push_back({"changes", std::to_string(latest.num_changes)});
     report.values.push_back({"changed_after_station", std::to_string(after)});
-    const Isometry3 before = FromRowMajor(e.change_T_before.back().data());
+    const Isometry3 before = FromRowMajor(latest.change_T_before.back().data());
     report.values.push_back({"before_translation_m", Vector(before.translation(), 4)});
     report.values.push_back({"before_rpy_deg", Vector(RpyFromRotation(before.linear()) * 180.0 / M_PI, 3)});
   }

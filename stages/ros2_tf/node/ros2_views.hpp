@@ -30,6 +30,8 @@ struct DiagnosticReport {
 
 // OK when converged, WARN while refining or not converged, ERROR when degenerate or failed; the message
 // is the verdict; the values are the version, the estimate, its standard deviations and the motions.
-DiagnosticReport DescribeExtrinsic(const extrinsic_t& extrinsic);
+// A failed version has no estimate: with `held` (the version tf_static still holds) the values are held's
+// and the level WARN, since the robot keeps a transform; without one, ERROR.
+DiagnosticReport DescribeExtrinsic(const extrinsic_t& extrinsic, const extrinsic_t* held = nullptr);
 
 }  // namespace fusecal

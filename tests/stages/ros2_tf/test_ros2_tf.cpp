@@ -62,6 +62,16 @@ TEST(Ros2Tf, AStaticTransformReachesARos2ReaderWithTheConfiguredFrames) {
     bus->Publish("EXTRINSIC", e);
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
+  // A failed version (no estimate; the identity, as after a change of the rig) does not replace it.
+  extrinsic_t failed = e;
+  failed.version = 8;
+  ToRowMajor(Isometry3::Identity(), failed.T_camera_lidar);
+  failed.status = extrinsic_t::STATUS_FAILED;
+  failed.converged = false;
+  for (int k = 0; k < 5; ++k) {
+    bus->Publish("EXTRINSIC", failed);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
 
   // A late reader: transient local hands it the last sample.
   const dds_entity_t participant = dds_create_participant(kDomain, nullptr, nullptr);
@@ -225,6 +235,21 @@ TEST(Ros2TfDiagnostics, AChangedRigWarnsUntilConvergedAndSaysWhatChanged) {
   EXPECT_EQ(values["before_translation_m"], "[0.1000, 0.0000, 0.0000]");
   e.status = extrinsic_t::STATUS_CONVERGED;
   EXPECT_EQ(DescribeExtrinsic(e).level, 0);
+  // A failed version right after a change: the values are those of the version tf_static still holds.
+  extrinsic_t failed = e;
+  failed.version = 10;
+  failed.status = extrinsic_t::STATUS_FAILED;
+  ToRowMajor(Isometry3::Identity(), failed.T_camera_lidar);
+  extrinsic_t held = e;
+  held.T_camera_lidar[3] = 0.25;
+  report = DescribeExtrinsic(failed, &held);
+  EXPECT_EQ(report.level, 1);
+  EXPECT_NE(report.message.find("tf_static holds version 9"), std::string::npos) << report.message;
+  values = std::map<std::string, std::string>(report.values.begin(), report.values.end());
+  EXPECT_EQ(values["translation_m"], "[0.2500, 0.0000, 0.0000]");
+  EXPECT_EQ(values["status"], "failed");
+  EXPECT_EQ(values["tf_static_version"], "9");
+  EXPECT_EQ(DescribeExtrinsic(failed).level, 2) << "nothing held";
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -30,6 +31,12 @@ std::vector<ExtrinsicChangeRecord> ChangeRecords(const extrinsic_t& e) {
                                        FromRowMajor(e.change_T_before[k].data()),
                                        Matrix6FromArray(e.change_covariance_before[k].data()), FromRowMajor(after),
                                        Matrix6FromArray(after_covariance)));
+    if (newest && e.status == extrinsic_t::STATUS_FAILED) {
+      // No estimate after the change yet: its size is not known.
+      ExtrinsicChangeRecord& r = records.back();
+      r.rotation_deg = r.rotation_std_deg = r.translation_m = r.translation_std_m =
+          std::numeric_limits<double>::quiet_NaN();
+    }
   }
   return records;
 }

@@ -2,6 +2,7 @@
 
 #include "pipeline/outputs.hpp"
 
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 
@@ -141,9 +142,12 @@ std::string ProgressText(const SessionRecord& session) {
     const std::vector<ExtrinsicChangeRecord> changes = ChangeRecords(*e);
     if (!changes.empty()) {
       const ExtrinsicChangeRecord& c = changes.back();
-      out << " | CHANGED after station " << c.after_station << " (decided at " << c.decided_at_station
-          << "): " << std::setprecision(3) << c.rotation_deg << "+-" << c.rotation_std_deg << " deg, "
-          << c.translation_m << "+-" << c.translation_std_m << " m";
+      out << " | CHANGED after station " << c.after_station << " (decided at " << c.decided_at_station << "): ";
+      if (std::isnan(c.rotation_deg))
+        out << "size not known until the motions after it are solved";
+      else
+        out << std::setprecision(3) << c.rotation_deg << "+-" << c.rotation_std_deg << " deg, " << c.translation_m
+            << "+-" << c.translation_std_m << " m";
     }
   }
   return out.str();
