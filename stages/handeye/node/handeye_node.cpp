@@ -53,6 +53,14 @@ CalibratorSettings ReadCalibratorSettings(ConfigReader r) {
   r.Get("max_angle_difference_deg", &s.solver.max_angle_difference_deg);
   r.Get("min_rotation_deg", &s.solver.min_rotation_deg);
   r.Get("min_pairs", &s.solver.min_pairs);
+  ConfigReader change = r.Child("change_detection");
+  change.Get("enabled", &s.change_detection.enabled);
+  change.Get("off_probability", &s.change_detection.off_probability);
+  change.Get("confirm_probability", &s.change_detection.confirm_probability);
+  change.Get("window", &s.change_detection.window);
+  change.Get("noise_floor_fraction", &s.change_detection.noise_floor_fraction);
+  change.Get("min_direction_length", &s.change_detection.min_direction_length);
+  change.Finish();
   ConfigReader shared = r.Child("shared_errors");
   ReadSharedErrors(shared.Child("camera"), &s.solver.shared_camera_errors);
   ReadSharedErrors(shared.Child("lidar"), &s.solver.shared_lidar_errors);

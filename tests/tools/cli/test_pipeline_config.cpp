@@ -97,6 +97,23 @@ TEST(PipelineConfig, ValuesWithinTheSettingsRangesAreAccepted) {
   EXPECT_EQ(ErrorOf("ros2_tf", "domain: 232", kRos2Tf), "");
 }
 
+TEST(PipelineConfig, ChangeDetectionIsReadAndABadValueIsNamed) {
+  ConfigReader config = ConfigReader::FromString(
+      "handeye: {change_detection: {enabled: false, off_probability: 1.0e-4, confirm_probability: 1.0e-2, window: 5, "
+      "noise_floor_fraction: 0.2, min_direction_length: 4}}");
+  const CalibratorSettings s = ReadCalibratorSettings(config.Child("handeye"));
+  EXPECT_FALSE(s.change_detection.enabled);
+  EXPECT_EQ(s.change_detection.off_probability, 1e-4);
+  EXPECT_EQ(s.change_detection.confirm_probability, 1e-2);
+  EXPECT_EQ(s.change_detection.window, 5);
+  EXPECT_EQ(s.change_detection.noise_floor_fraction, 0.2);
+  EXPECT_EQ(s.change_detection.min_direction_length, 4);
+  const std::string bad = ErrorOf("handeye", "change_detection: {off_probability: 0.7}", kHandEye);
+  EXPECT_NE(bad.find("change_detection.off_probability"), std::string::npos) << bad;
+  const std::string unknown = ErrorOf("handeye", "change_detection: {windows: 3}", kHandEye);
+  EXPECT_NE(unknown.find("windows"), std::string::npos) << unknown;
+}
+
 TEST(PipelineConfig, WrongTypesAndNonFiniteValuesAreStillNamed) {
   const std::string nan = ErrorOf("handeye", "tolerance_rotation_deg: .nan", kHandEye);
   EXPECT_NE(nan.find("'handeye.tolerance_rotation_deg' must be finite"), std::string::npos) << nan;
