@@ -27,13 +27,13 @@ std::string ExportKitti(const CalibrationResult& r) {
   return out.str();
 }
 
-std::string ExportRos(const CalibrationResult& r) {
+std::string ExportRos(const CalibrationResult& r, const ExportFrames& frames) {
   const Eigen::Quaterniond q(r.T_camera_lidar.linear());
   const Eigen::Vector3d t = r.T_camera_lidar.translation();
   std::ostringstream out;
   out.precision(12);
-  out << t.x() << " " << t.y() << " " << t.z() << " " << q.x() << " " << q.y() << " " << q.z() << " " << q.w()
-      << " camera lidar\n";
+  out << t.x() << " " << t.y() << " " << t.z() << " " << q.x() << " " << q.y() << " " << q.z() << " " << q.w() << " "
+      << frames.parent << " " << frames.child << "\n";
   return out.str();
 }
 
@@ -71,6 +71,48 @@ std::string ExportOpenCv(const CalibrationResult& r) {
   return fs.releaseAndGetString();
 }
 
+std::string ExportUrdf(const CalibrationResult& r, const ExportFrames& frames) {
+  const Eigen::Vector3d t = r.T_camera_lidar.translation(), rpy = RpyFromRotation(r.T_camera_lidar.linear());
+  std::ostringstream out;
+  out.precision(15);
+  out << "<?xml version=\"1.0\"?>\n"
+      << "<!-- T_camera_lidar by fusecal (" << r.status << ", " << r.observability << "): the pose of the LiDAR frame\n"
+      << "     in the camera's optical frame (x right, y down, z forward). Paste the joint into the robot's URDF\n"
+      << "     or xacro where the LiDAR link has no other parent; otherwise compose it with the camera's pose. -->\n"
+      << "<robot name=\"fusecal_extrinsic\">\n"
+      << "  <link name=\"" << frames.parent << "\"/>\n"
+      << "  <link name=\"" << frames.child << "\"/>\n"
+      << "  <joint name=\"" << frames.parent << "_to_" << frames.child << "\" type=\"fixed\">\n"
+      << "    <parent link=\"" << frames.parent << "\"/>\n"
+      << "    <child link=\"" << frames.child << "\"/>\n"
+      << "    <origin xyz=\"" << t.x() << " " << t.y() << " " << t.z() << "\" rpy=\"" << rpy.x() << " " << rpy.y()
+      << " " << rpy.z() << "\"/>\n"
+      << "  </joint>\n"
+      << "</robot>\n";
+  return out.str();
+}
+
+// The three numbers of attribute `name` of the first <origin> element.
+Eigen::Vector3d UrdfOriginAttribute(const std::string& text, const std::string& name) {
+  const size_t origin = text.find("<origin");
+  if (origin == std::string::npos || text.find("<joint") == std::string::npos)
+    throw std::runtime_error("urdf: no <joint> with an <origin>");
+  const size_t end = text.find('>', origin);
+  const std::string element = text.substr(origin, end == std::string::npos ? std::string::npos : end - origin);
+  const size_t at = element.find(" " + name + "=\"");
+  if (at == std::string::npos) throw std::runtime_error("urdf: <origin> has no " + name + "=\"...\"");
+  std::istringstream values(element.substr(at + name.size() + 3));
+  Eigen::Vector3d v;
+  if (!(values >> v.x() >> v.y() >> v.z()) || !v.allFinite())
+    throw std::runtime_error("urdf: <origin> " + name + " needs three numbers");
+  return v;
+}
+
+void CheckFrameName(const std::string& name) {
+  if (name.empty() || name.find_first_of(" \t\n\"'<>&") != std::string::npos)
+    throw std::invalid_argument("frame name '" + name + "': must be non-empty, without spaces, quotes, <, > or &");
+}
+
 // Reads `count` numbers after "key:" on its own line.
 std::vector<double> KittiLine(const std::string& text, const std::string& key, size_t count) {
   std::istringstream lines(text);
@@ -98,17 +140,20 @@ Isometry3 Checked(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, const std:
 }  // namespace
 
 const std::vector<std::string>& ExportFormats() {
-  static const std::vector<std::string> formats{"kitti", "ros-static-tf", "json", "opencv-yaml"};
+  static const std::vector<std::string> formats{"kitti", "ros-static-tf", "json", "opencv-yaml", "urdf"};
   return formats;
 }
 
-std::string ExportExtrinsic(const CalibrationResult& result, const std::string& format) {
+std::string ExportExtrinsic(const CalibrationResult& result, const std::string& format, const ExportFrames& frames) {
+  CheckFrameName(frames.parent);
+  CheckFrameName(frames.child);
   if (format == "kitti") return ExportKitti(result);
-  if (format == "ros-static-tf") return ExportRos(result);
+  if (format == "ros-static-tf") return ExportRos(result, frames);
   if (format == "json") return ExportJson(result);
   if (format == "opencv-yaml") return ExportOpenCv(result);
+  if (format == "urdf") return ExportUrdf(result, frames);
   throw std::invalid_argument("unknown export format '" + format +
-                              "' (expected kitti, ros-static-tf, json or opencv-yaml)");
+                              "' (expected kitti, ros-static-tf, json, opencv-yaml or urdf)");
 }
 
 Isometry3 ParseExportedExtrinsic(const std::string& text, const std::string& format) {
@@ -164,6 +209,10 @@ Isometry3 ParseExportedExtrinsic(const std::string& text, const std::string& for
     Eigen::Matrix4d M;
     cv::cv2eigen(T, M);
     return Checked(M.topLeftCorner<3, 3>(), M.topRightCorner<3, 1>(), format);
+  }
+  if (format == "urdf") {
+    const Eigen::Vector3d xyz = UrdfOriginAttribute(text, "xyz"), rpy = UrdfOriginAttribute(text, "rpy");
+    return Checked(RotationFromRpy(rpy.x(), rpy.y(), rpy.z()), xyz, format);
   }
   throw std::invalid_argument("unknown format '" + format + "'");
 }

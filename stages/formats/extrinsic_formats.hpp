@@ -4,6 +4,8 @@
 //                  (the transform of the lidar frame in the camera frame)
 //   json:          {"T_camera_lidar": [16 row-major], "translation_m", "rotation_quaternion_wxyz", ...}
 //   opencv-yaml:   cv::FileStorage with T_camera_lidar (4x4), R, t, and std devs when known
+//   urdf:          a robot with the two links and the fixed joint parent -> child, <origin xyz rpy> the pose
+//                  of the LiDAR frame in the camera frame (rpy about fixed x, y, z: R = Rz Ry Rx)
 #pragma once
 
 #include <string>
@@ -15,8 +17,17 @@ namespace fusecal {
 
 const std::vector<std::string>& ExportFormats();
 
-// Throws std::invalid_argument for an unknown format.
-std::string ExportExtrinsic(const CalibrationResult& result, const std::string& format);
+// The frame names of ros-static-tf and urdf: the camera's (its optical frame: x right, y down, z forward)
+// and the LiDAR's.
+struct ExportFrames {
+  std::string parent = "camera";
+  std::string child = "lidar";
+};
+
+// Throws std::invalid_argument for an unknown format or a frame name that is empty or holds a space, a
+// quote, '<', '>' or '&'.
+std::string ExportExtrinsic(const CalibrationResult& result, const std::string& format,
+                            const ExportFrames& frames = {});
 
 // Parses text produced by ExportExtrinsic (or written by hand in that format). Throws
 // std::runtime_error saying what is missing or malformed.

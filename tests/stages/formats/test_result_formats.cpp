@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <urdf_parser/urdf_parser.h>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -76,8 +77,35 @@ TEST(ExportFormats, EveryFormatRoundTrips) {
     EXPECT_LT(RotationErrorDeg(back.linear(), r.T_camera_lidar.linear()), 1e-7) << format << "\n" << text;
     EXPECT_LT((back.translation() - r.T_camera_lidar.translation()).norm(), 1e-9) << format;
   }
-  EXPECT_THROW(ExportExtrinsic(r, "urdf"), std::invalid_argument);
+  EXPECT_THROW(ExportExtrinsic(r, "xacro"), std::invalid_argument);
+  EXPECT_THROW(ExportExtrinsic(r, "urdf", {"camera", "velo dyne"}), std::invalid_argument);
   EXPECT_THROW(ParseExportedExtrinsic("R: 1 2 3\n", "kitti"), std::runtime_error);
+  EXPECT_THROW(ParseExportedExtrinsic("<robot><joint/></robot>", "urdf"), std::runtime_error);
+}
+
+// The URDF as urdfdom (ROS's URDF parser) reads it: the joint from the camera's optical frame to the
+// LiDAR's, whose origin composes to T_camera_lidar, also near pitch -90 deg, where rpy is sensitive.
+TEST(ExportFormats, UrdfdomReadsTheJointAsTheExtrinsic) {
+  CalibrationResult r = SampleResult();
+  for (const double pitch : {0.02, -1.527}) {
+    r.T_camera_lidar.linear() = RotationFromRpy(-2.2, pitch, -2.5);
+    const std::string text = ExportExtrinsic(r, "urdf", {"cam_front_optical", "velodyne"});
+    const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text);
+    ASSERT_TRUE(model) << text;
+    const urdf::JointConstSharedPtr joint = model->getJoint("cam_front_optical_to_velodyne");
+    ASSERT_TRUE(joint) << text;
+    EXPECT_EQ(joint->type, urdf::Joint::FIXED);
+    EXPECT_EQ(joint->parent_link_name, "cam_front_optical");
+    EXPECT_EQ(joint->child_link_name, "velodyne");
+    const urdf::Pose& pose = joint->parent_to_joint_origin_transform;
+    double x, y, z, w;
+    pose.rotation.getQuaternion(x, y, z, w);
+    const Eigen::Matrix3d R = Eigen::Quaterniond(w, x, y, z).toRotationMatrix();
+    EXPECT_LT(RotationErrorDeg(R, r.T_camera_lidar.linear()), 1e-7) << text;
+    const Eigen::Vector3d t(pose.position.x, pose.position.y, pose.position.z);
+    EXPECT_LT((t - r.T_camera_lidar.translation()).norm(), 1e-12);
+    EXPECT_EQ(model->getRoot()->name, "cam_front_optical");
+  }
 }
 
 TEST(Commands, EvaluateAndExport) {
@@ -101,7 +129,17 @@ TEST(Commands, EvaluateAndExport) {
   std::ifstream in(out);
   const std::string text((std::istreambuf_iterator<char>(in)), {});
   EXPECT_NE(text.find("camera lidar"), std::string::npos);
-  EXPECT_EQ(RunCommand(std::string(FUSECAL_BIN) + " export " + result + " --format urdf 2>&1").exit_code == 0, false);
+  EXPECT_NE(RunCommand(std::string(FUSECAL_BIN) + " export " + result + " --format xacro 2>&1").exit_code, 0);
+  // The URDF passes urdfdom's own check (check_urdf, liburdfdom-tools) with the frames given.
+  const std::string urdf = TempFile("extrinsic.urdf");
+  ASSERT_EQ(RunCommand(std::string(FUSECAL_BIN) + " export " + result +
+                       " --format urdf --parent-frame cam0_optical --child-frame os_sensor --out " + urdf)
+                .exit_code,
+            0);
+  const auto check = RunCommand("check_urdf " + urdf + " 2>&1");
+  EXPECT_EQ(check.exit_code, 0) << check.output;
+  EXPECT_NE(check.output.find("root Link: cam0_optical has 1 child(ren)"), std::string::npos) << check.output;
+  EXPECT_NE(check.output.find("child(1):  os_sensor"), std::string::npos) << check.output;
   EXPECT_EQ(RunCommand(std::string(FUSECAL_BIN) + " evaluate --result /nonexistent.yaml --truth " + truth + " 2>&1")
                 .exit_code,
             1);
