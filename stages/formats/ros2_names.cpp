@@ -45,4 +45,21 @@ std::string RosTypeToDds(const std::string& ros_type) {
   return head + "::dds_::" + ros_type.substr(last + 1) + "_";
 }
 
+int Ros2DomainFromEnvironment(const char* value, std::string* problem) {
+  if (!value || !*value) return 0;
+  const std::string text = value;
+  size_t used = 0;
+  int domain = -1;
+  try {
+    domain = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || domain < 0 || domain > 232) {
+    *problem = "domain: not set, and ROS_DOMAIN_ID='" + text + "' is not an integer in [0, 232]";
+    return 0;
+  }
+  return domain;
+}
+
 }  // namespace fusecal

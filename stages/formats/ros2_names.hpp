@@ -23,4 +23,9 @@ std::string DdsTypeToRos(const std::string& dds_type);
 // "sensor_msgs/msg/Image" -> "sensor_msgs::msg::dds_::Image_".
 std::string RosTypeToDds(const std::string& ros_type);
 
+// The ROS 2 domain of a config that names none, as every ROS 2 tool takes it: ROS_DOMAIN_ID (`value`, null
+// when unset; empty is 0), else 0. A value that is not an integer in [0, 232] leaves 0 and sets `problem`
+// ("domain: ROS_DOMAIN_ID='x' ...").
+int Ros2DomainFromEnvironment(const char* value, std::string* problem);
+
 }  // namespace fusecal

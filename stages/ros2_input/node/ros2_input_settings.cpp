@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "formats/ros2_names.hpp"
 
@@ -41,6 +42,8 @@ size_t ReceiveBufferBytes(const Ros2InputSettings& settings) {
 
 Ros2InputSettings ReadRos2InputSettings(ConfigReader r) {
   Ros2InputSettings s;
+  std::string domain_problem;
+  if (!r.Has("domain")) s.domain = Ros2DomainFromEnvironment(std::getenv("ROS_DOMAIN_ID"), &domain_problem);
   r.Get("domain", &s.domain);
   r.Get("image_topic", &s.image_topic);
   r.Get("cloud_topic", &s.cloud_topic);
@@ -50,6 +53,7 @@ Ros2InputSettings ReadRos2InputSettings(ConfigReader r) {
   r.Get("max_message_mb", &s.max_message_mb);
   r.Get("depth", &s.depth);
   r.Finish();
+  r.FailIfInvalid(domain_problem);
   r.FailIfInvalid(s.Validate());
   return s;
 }

@@ -1,5 +1,7 @@
 #include "ros2_tf/node/ros2_tf_settings.hpp"
 
+#include <cstdlib>
+
 #include "formats/ros2_names.hpp"
 
 namespace fusecal {
@@ -15,12 +17,15 @@ std::string Ros2TfSettings::Validate() const {
 Ros2TfSettings ReadRos2TfSettings(ConfigReader r) {
   Ros2TfSettings s;
   r.Get("enabled", &s.enabled);
+  std::string domain_problem;
+  if (!r.Has("domain")) s.domain = Ros2DomainFromEnvironment(std::getenv("ROS_DOMAIN_ID"), &domain_problem);
   r.Get("domain", &s.domain);
   r.Get("parent_frame", &s.parent_frame);
   r.Get("child_frame", &s.child_frame);
   r.Get("overlay_topic", &s.overlay_topic);
   r.Get("diagnostics", &s.diagnostics);
   r.Finish();
+  r.FailIfInvalid(domain_problem);
   r.FailIfInvalid(s.Validate());
   return s;
 }

@@ -2,6 +2,7 @@
 // Validate(), and an out-of-range value is an error naming the key and the range.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <functional>
 #include <string>
 
@@ -18,6 +19,7 @@ const Reader kCameraFrontend = [](ConfigReader r) { ReadCameraFrontendNodeSettin
 const Reader kFusionOdometry = [](ConfigReader r) { ReadFusionOdometryNodeSettings(r); };
 const Reader kHandEye = [](ConfigReader r) { ReadCalibratorSettings(r); };
 const Reader kRos2Tf = [](ConfigReader r) { ReadRos2TfSettings(r); };
+const Reader kRos2Input = [](ConfigReader r) { ReadRos2InputSettings(r); };
 
 // Reads `section: {line}` with `read`; the ConfigError message, or "" when accepted.
 std::string ErrorOf(const std::string& section, const std::string& line, const Reader& read) {
@@ -112,6 +114,32 @@ TEST(PipelineConfig, ChangeDetectionIsReadAndABadValueIsNamed) {
   EXPECT_NE(bad.find("change_detection.off_probability"), std::string::npos) << bad;
   const std::string unknown = ErrorOf("handeye", "change_detection: {windows: 3}", kHandEye);
   EXPECT_NE(unknown.find("windows"), std::string::npos) << unknown;
+}
+
+// As every ROS 2 tool: a config without a domain takes ROS_DOMAIN_ID; one that names a domain keeps it.
+TEST(PipelineConfig, Ros2DomainComesFromRosDomainIdUnlessTheConfigNamesOne) {
+  const auto input = [](const std::string& yaml) {
+    return ReadRos2InputSettings(ConfigReader::FromString(yaml).Child("ros2_input")).domain;
+  };
+  const auto tf = [](const std::string& yaml) {
+    return ReadRos2TfSettings(ConfigReader::FromString(yaml).Child("ros2_tf")).domain;
+  };
+  unsetenv("ROS_DOMAIN_ID");
+  EXPECT_EQ(input("ros2_input: {}"), 0);
+  setenv("ROS_DOMAIN_ID", "150", 1);
+  EXPECT_EQ(input("ros2_input: {}"), 150);
+  EXPECT_EQ(tf("ros2_tf: {}"), 150);
+  EXPECT_EQ(input("ros2_input: {domain: 3}"), 3);
+  EXPECT_EQ(tf("ros2_tf: {domain: 0}"), 0);
+  setenv("ROS_DOMAIN_ID", "", 1);
+  EXPECT_EQ(tf("ros2_tf: {}"), 0) << "empty is the default domain, as in ROS 2";
+  setenv("ROS_DOMAIN_ID", "15x", 1);
+  const std::string bad = ErrorOf("ros2_input", "", kRos2Input);
+  EXPECT_NE(bad.find("ROS_DOMAIN_ID='15x'"), std::string::npos) << bad;
+  EXPECT_EQ(ErrorOf("ros2_input", "domain: 7", kRos2Input), "") << "a domain in the config does not read it";
+  setenv("ROS_DOMAIN_ID", "233", 1);
+  EXPECT_NE(ErrorOf("ros2_tf", "", kRos2Tf).find("[0, 232]"), std::string::npos);
+  unsetenv("ROS_DOMAIN_ID");
 }
 
 TEST(PipelineConfig, WrongTypesAndNonFiniteValuesAreStillNamed) {
