@@ -1,6 +1,7 @@
 #include "ros2_tf/node/ros2_tf_node.hpp"
 
 #include <Eigen/Geometry>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -26,6 +27,50 @@ Ros2TfNode::Ros2TfNode(const Ros2TfSettings& settings) : settings_(settings) {
     overlay_writer_ = MakeWriter(RosTopicToDds(settings_.overlay_topic), &sensor_msgs_msg_dds__Image__desc, true);
   if (settings_.diagnostics)
     diagnostics_writer_ = MakeWriter("rt/diagnostics", &diagnostic_msgs_msg_dds__DiagnosticArray__desc, false);
+  tf_static_reader_ = MakeTreeReader("rt/tf_static", true);
+  tf_reader_ = MakeTreeReader("rt/tf", false);
+}
+
+// tf2_ros's listeners: /tf_static reliable and transient local (a late joiner gets the tree), /tf best
+// effort (matches every writer).
+int Ros2TfNode::MakeTreeReader(const std::string& dds_topic, bool transient_local) {
+  const dds_entity_t topic =
+      dds_create_topic(participant_, &tf2_msgs_msg_dds__TFMessage__desc, dds_topic.c_str(), nullptr, nullptr);
+  if (topic < 0) throw std::runtime_error("ros2_tf: cannot create topic " + dds_topic + ": " + DdsErrorText(topic));
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, transient_local ? DDS_RELIABILITY_RELIABLE : DDS_RELIABILITY_BEST_EFFORT, DDS_SECS(1));
+  dds_qset_durability(qos, transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 100);
+  const dds_entity_t reader = dds_create_reader(participant_, topic, qos, nullptr);
+  dds_delete_qos(qos);
+  if (reader < 0)
+    throw std::runtime_error("ros2_tf: cannot create the " + dds_topic + " reader: " + DdsErrorText(reader));
+  return reader;
+}
+
+void Ros2TfNode::ReadTree() {
+  constexpr int kBatch = 16;
+  for (const dds_entity_t reader : {tf_static_reader_, tf_reader_}) {
+    void* samples[kBatch] = {nullptr};
+    dds_sample_info_t infos[kBatch];
+    for (;;) {
+      const dds_return_t n = dds_take(reader, samples, infos, kBatch, kBatch);
+      if (n <= 0) break;
+      for (int i = 0; i < n; ++i) {
+        if (!infos[i].valid_data) continue;
+        const auto* message = static_cast<const tf2_msgs_msg_dds__TFMessage_*>(samples[i]);
+        for (uint32_t k = 0; k < message->transforms_._length; ++k) {
+          const auto& t = message->transforms_._buffer[k];
+          const std::string parent = t.header_.frame_id_ ? t.header_.frame_id_ : "";
+          const std::string child = t.child_frame_id_ ? t.child_frame_id_ : "";
+          if (parent == settings_.parent_frame && child == child_name_) continue;  // ours
+          frames_.Add(parent, child);
+        }
+      }
+      dds_return_loan(reader, samples, n);
+      if (n < kBatch) break;
+    }
+  }
 }
 
 // Reliable, depth 1; transient local (a late subscriber gets the latest) or volatile.
@@ -58,6 +103,11 @@ void Ros2TfNode::Start(Bus& bus) {
 }
 
 void Ros2TfNode::Tick(Bus&, int64_t now_utime) {
+  ReadTree();
+  // A parent of the child frame learned after the calibration was published: publish it again under the
+  // new name (late joiners then get that one).
+  if (extrinsic_ && frames_.ChildName(settings_.parent_frame, settings_.child_frame) != child_name_)
+    WriteTransform(*extrinsic_);
   if (diagnostics_writer_ <= 0 || !latest_ || now_utime - last_diagnostics_utime_ < kDiagnosticsPeriodUs) return;
   last_diagnostics_utime_ = now_utime;
   PublishDiagnostics();
@@ -74,13 +124,31 @@ void Ros2TfNode::OnExtrinsic(const extrinsic_t& e) {
     if (diagnostics_writer_ > 0) PublishDiagnostics();
     return;
   }
+  ReadTree();
+  WriteTransform(e);
+  ++published_;
+  extrinsic_ = std::make_unique<extrinsic_t>(e);
+  PublishOverlay();
+  if (diagnostics_writer_ > 0) PublishDiagnostics();
+}
+
+void Ros2TfNode::WriteTransform(const extrinsic_t& e) {
+  const std::string child = frames_.ChildName(settings_.parent_frame, settings_.child_frame);
+  if (child != child_name_ && child != settings_.child_frame)
+    std::fprintf(stderr,
+                 "ros2_tf: %s already has the parent %s on /tf or /tf_static; publishing the calibration as %s -> %s "
+                 "so that the tree keeps one parent per frame\n",
+                 settings_.child_frame.c_str(),
+                 frames_.OtherParent(settings_.parent_frame, settings_.child_frame).c_str(),
+                 settings_.parent_frame.c_str(), child.c_str());
+  child_name_ = child;
   const Isometry3 T = FromRowMajor(e.T_camera_lidar);
   const Eigen::Quaterniond q(T.linear());
   geometry_msgs_msg_dds__TransformStamped_ transform{};
   transform.header_.stamp_.sec_ = static_cast<int32_t>(e.utime / 1000000);
   transform.header_.stamp_.nanosec_ = static_cast<uint32_t>((e.utime % 1000000) * 1000);
   transform.header_.frame_id_ = const_cast<char*>(settings_.parent_frame.c_str());
-  transform.child_frame_id_ = const_cast<char*>(settings_.child_frame.c_str());
+  transform.child_frame_id_ = const_cast<char*>(child_name_.c_str());
   transform.transform_.translation_ = {T.translation().x(), T.translation().y(), T.translation().z()};
   transform.transform_.rotation_ = {q.x(), q.y(), q.z(), q.w()};
   tf2_msgs_msg_dds__TFMessage_ message{};
@@ -89,10 +157,6 @@ void Ros2TfNode::OnExtrinsic(const extrinsic_t& e) {
   message.transforms_._release = false;
   if (const dds_return_t rc = dds_write(writer_, &message); rc < 0)
     throw std::runtime_error("ros2_tf: writing rt/tf_static failed: " + DdsErrorText(rc));
-  ++published_;
-  extrinsic_ = std::make_unique<extrinsic_t>(e);
-  PublishOverlay();
-  if (diagnostics_writer_ > 0) PublishDiagnostics();
 }
 
 // The latest station through the latest extrinsic (nothing until both are there).
@@ -146,7 +210,8 @@ void Ros2TfNode::PublishDiagnostics() {
 
 StageStatus Ros2TfNode::Status() const {
   StageStatus s;
-  s.state = published_ ? "publishing rt/tf_static" : "waiting for EXTRINSIC";
+  s.state = published_ ? "publishing rt/tf_static: " + settings_.parent_frame + " -> " + child_name_
+                       : "waiting for EXTRINSIC";
   s.counters = {{"published", published_},
                 {"version", last_version_},
                 {"domain", settings_.domain},

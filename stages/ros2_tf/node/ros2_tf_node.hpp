@@ -5,6 +5,9 @@
 // latest extrinsic as a sensor_msgs/Image on `overlay_topic` (reliable, transient local, depth 1), and
 // the calibration's state as a diagnostic_msgs/DiagnosticArray on `rt/diagnostics` (1 Hz). The types
 // are generated from stages/ros2_dds/ros2_messages.idl (rosidl's form) by Cyclone's idlc.
+// A robot's tree already gives its LiDAR frame a parent (base_link -> lidar_link on /tf_static or /tf):
+// a second parent breaks tf2, so the node reads both topics and then publishes the calibration as
+// parent_frame -> <child_frame>_calibrated, and says so in its log and STATUS.
 #pragma once
 
 #include <memory>
@@ -13,6 +16,7 @@
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "ros2_tf/node/ros2_tf_settings.hpp"
+#include "ros2_tf/node/ros2_views.hpp"
 #include "runtime/stage_main.hpp"
 
 namespace fusecal {
@@ -28,6 +32,11 @@ class Ros2TfNode : public StageNode {
 
  private:
   void OnExtrinsic(const extrinsic_t& extrinsic);
+  // Writes `extrinsic` on rt/tf_static, under the child name the known tree allows.
+  void WriteTransform(const extrinsic_t& extrinsic);
+  // Takes what other publishers sent on rt/tf_static and rt/tf into frames_.
+  void ReadTree();
+  int MakeTreeReader(const std::string& dds_topic, bool transient_local);
   void PublishOverlay();
   void PublishDiagnostics();
   int MakeWriter(const std::string& dds_topic, const void* descriptor, bool transient_local);
@@ -41,6 +50,9 @@ class Ros2TfNode : public StageNode {
   int64_t last_diagnostics_utime_ = 0;
   int overlays_ = 0, diagnostics_ = 0;
   std::vector<Subscription> subscriptions_;
+  int tf_static_reader_ = 0, tf_reader_ = 0;  // dds_entity_t
+  FrameParents frames_;
+  std::string child_name_;  // the child frame the calibration was last published under
   int published_ = 0;
   int last_version_ = -1;
 };

@@ -105,4 +105,24 @@ DiagnosticReport DescribeExtrinsic(const extrinsic_t& latest, const extrinsic_t*
   return report;
 }
 
+namespace {
+std::string WithoutLeadingSlash(const std::string& frame) { return frame.rfind('/', 0) == 0 ? frame.substr(1) : frame; }
+}  // namespace
+
+void FrameParents::Add(const std::string& parent, const std::string& child) {
+  parents_[WithoutLeadingSlash(child)].insert(WithoutLeadingSlash(parent));
+}
+
+std::string FrameParents::OtherParent(const std::string& parent, const std::string& child) const {
+  const auto found = parents_.find(WithoutLeadingSlash(child));
+  if (found == parents_.end()) return "";
+  for (const std::string& p : found->second)
+    if (p != WithoutLeadingSlash(parent)) return p;
+  return "";
+}
+
+std::string FrameParents::ChildName(const std::string& parent, const std::string& child) const {
+  return OtherParent(parent, child).empty() ? child : child + "_calibrated";
+}
+
 }  // namespace fusecal

@@ -5,7 +5,9 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <opencv2/core.hpp>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -33,5 +35,20 @@ struct DiagnosticReport {
 // A failed version has no estimate: with `held` (the version tf_static still holds) the values are held's
 // and the level WARN, since the robot keeps a transform; without one, ERROR.
 DiagnosticReport DescribeExtrinsic(const extrinsic_t& extrinsic, const extrinsic_t* held = nullptr);
+
+// The parents other publishers give each frame on /tf and /tf_static (child -> parents).
+class FrameParents {
+ public:
+  // A transform parent -> child seen on the domain (a leading '/' is dropped, as tf2 does).
+  void Add(const std::string& parent, const std::string& child);
+  // The name to publish the calibrated child under: `child` when it has no parent but `parent` (ours),
+  // else `child` + "_calibrated", so that the robot's tree keeps one parent per frame.
+  std::string ChildName(const std::string& parent, const std::string& child) const;
+  // The first parent other than `parent` that `child` has, or "".
+  std::string OtherParent(const std::string& parent, const std::string& child) const;
+
+ private:
+  std::map<std::string, std::set<std::string>> parents_;
+};
 
 }  // namespace fusecal

@@ -5,6 +5,7 @@
 //   fastdds_ros2_peer play LOG [--domain N] [--speed X] [--best-effort] [--compressed] [--wait-s S]
 //       [--settle-s S] [--image-topic T] [--cloud-topic T] [--camera-info-topic T]
 //   fastdds_ros2_peer tf-listen [--domain N] [--timeout S] [--count K]
+//   fastdds_ros2_peer tf-static PARENT CHILD [--domain N] [--seconds S]
 //   fastdds_ros2_peer count [--domain N] [--seconds S] [--idle S] [--best-effort] [TOPIC[:Type]...]
 #include <CLI/CLI.hpp>
 
@@ -39,6 +40,14 @@ int main(int argc, char** argv) {
   listen->add_option("--timeout", timeout_s, "seconds to wait for the transforms");
   listen->add_option("--count", tf_count, "transforms to print before exiting");
 
+  std::string parent, child;
+  double hold_s = 30;
+  auto* tf_static = app.add_subcommand("tf-static", "publish PARENT -> CHILD on rt/tf_static and hold it");
+  tf_static->add_option("PARENT", parent)->required();
+  tf_static->add_option("CHILD", child)->required();
+  tf_static->add_option("--domain", domain, "ROS 2 domain (ROS_DOMAIN_ID)");
+  tf_static->add_option("--seconds", hold_s, "how long to hold it for late joiners");
+
   double seconds = 10, idle_s = 0;
   bool best_effort = false;
   std::vector<std::string> topics = {"/camera/camera_info", "/camera/image_raw", "/lidar/points"};
@@ -56,6 +65,7 @@ int main(int argc, char** argv) {
       return peer::Play(play_options);
     }
     if (*listen) return peer::TfListen(domain, timeout_s, tf_count);
+    if (*tf_static) return peer::TfStatic(domain, parent, child, hold_s);
     return peer::Count(domain, seconds, idle_s, best_effort, topics);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fastdds_ros2_peer: %s\n", e.what());

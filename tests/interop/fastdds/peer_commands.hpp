@@ -28,6 +28,10 @@ int Play(const PlayOptions& options);
 // `count` transforms; 1 after `timeout_s` without them.
 int TfListen(int domain, double timeout_s, int count);
 
+// Publishes parent -> child (0.8 m along z) on rt/tf_static as tf2_ros's static broadcaster does and
+// holds it for `seconds` (late joiners get it); prints {"published": {...}}.
+int TfStatic(int domain, const std::string& parent, const std::string& child, double seconds);
+
 // Counts the messages and serialized bytes on `topics` ("/name" or "/name:Type", Type one of Image,
 // CompressedImage, PointCloud2, CameraInfo; without it, the type follows from the name) for `seconds`,
 // or until `idle_s` after the last message; prints {"received": {topic: {"messages": n, "bytes": b}},

@@ -14,6 +14,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <sstream>
 #include <thread>
 
 #include "formats/conversions.hpp"
@@ -161,6 +162,52 @@ TEST_F(FastDdsPeer, ReadsTfStaticFromFusecal) {
                              t["q"][2].get<double>());
   EXPECT_NEAR(q.norm(), 1.0, 1e-12) << tf.output;
   EXPECT_LT((q.toRotationMatrix() - X.linear()).cwiseAbs().maxCoeff(), 1e-12) << tf.output;
+}
+
+// A robot (Fast DDS, tf2_ros's static broadcaster QoS) whose tree has base_link -> lidar_link: the
+// calibration arrives as camera -> lidar_link_calibrated, and lidar_link keeps its one parent.
+TEST_F(FastDdsPeer, TheCalibrationGivesNoFrameASecondParent) {
+  constexpr int kDomain = 64;
+  const std::string config = Dir() + "/ros2_tf_tree.yaml", node_log = Dir() + "/ros2_tf_tree.log";
+  const std::string bus = "udpm://239.255.76.67:" + std::to_string(7700 + kDomain) + "?ttl=0&recv_buf_size=67108864";
+  std::ofstream(config) << "ros2_tf:\n  domain: " << kDomain << "\n  child_frame: lidar_link\n";
+  const pid_t robot = StartInBackground(
+      kPeer + " tf-static base_link lidar_link --seconds 40 --domain " + std::to_string(kDomain), Dir() + "/robot.log");
+  ASSERT_GT(robot, 0);
+  const pid_t node =
+      StartInBackground(std::string(ROS2_TF_BIN) + " --config " + config + " --bus '" + bus + "'", node_log);
+  ASSERT_GT(node, 0);
+  std::this_thread::sleep_for(std::chrono::seconds(3));  // discovery: the node learns the robot's tree
+  extrinsic_t e{};
+  e.utime = 1700000001500000;
+  e.version = 3;
+  ToRowMajor(Isometry3::Identity(), e.T_camera_lidar);
+  e.status = extrinsic_t::STATUS_CONVERGED;
+  e.converged = true;
+  auto fusecal_bus = MakeBus(bus);
+  for (int k = 0; k < 30; ++k) {
+    fusecal_bus->Publish("EXTRINSIC", e);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  const auto tf =
+      RunCommand(kPeer + " tf-listen --count 2 --domain " + std::to_string(kDomain) + " --timeout 15 2>/dev/null");
+  kill(node, SIGTERM);
+  waitpid(node, nullptr, 0);
+  kill(robot, SIGTERM);
+  waitpid(robot, nullptr, 0);
+  const std::string log = ReadAll(node_log);
+  ASSERT_EQ(tf.exit_code, 0) << tf.output << "\nfusecal-ros2-tf: " << log;
+  std::map<std::string, std::string> parent_of;
+  std::istringstream lines(tf.output);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.empty() || line[0] != '{') continue;
+    const nlohmann::json t = nlohmann::json::parse(line);
+    EXPECT_EQ(parent_of.count(t["child"]), 0u) << "a second parent of " << t["child"] << ": " << tf.output;
+    parent_of[t["child"]] = t["parent"];
+  }
+  EXPECT_EQ(parent_of["lidar_link"], "base_link") << tf.output;
+  EXPECT_EQ(parent_of["lidar_link_calibrated"], "camera") << tf.output;
+  EXPECT_NE(log.find("publishing the calibration as camera -> lidar_link_calibrated"), std::string::npos) << log;
 }
 #endif
 

@@ -252,5 +252,18 @@ TEST(Ros2TfDiagnostics, AChangedRigWarnsUntilConvergedAndSaysWhatChanged) {
   EXPECT_EQ(DescribeExtrinsic(failed).level, 2) << "nothing held";
 }
 
+// A robot whose tree already gives the LiDAR frame a parent gets the calibration under another child
+// name, so that no frame has two parents (tf2 rejects that); a frame without one keeps its name.
+TEST(Ros2TfTree, AFrameWithAParentAlreadyGetsTheCalibrationUnderANewName) {
+  FrameParents frames;
+  EXPECT_EQ(frames.ChildName("camera", "lidar_link"), "lidar_link");
+  frames.Add("/base_link", "lidar_link");
+  frames.Add("camera", "velodyne");  // the calibration's own parent is no second parent
+  EXPECT_EQ(frames.ChildName("camera", "lidar_link"), "lidar_link_calibrated");
+  EXPECT_EQ(frames.OtherParent("camera", "lidar_link"), "base_link");
+  EXPECT_EQ(frames.ChildName("camera", "velodyne"), "velodyne");
+  EXPECT_EQ(frames.ChildName("camera", "/lidar_link"), "/lidar_link_calibrated");
+}
+
 }  // namespace
 }  // namespace fusecal
