@@ -11,6 +11,7 @@ SensorImage RosSensorFrames::Image(const RosImage& msg, int64_t arrival_utime) {
   image.height = image.pixels.rows;
   CheckSize(image.width, image.height);
   image.utime = Stamp(msg.header.stamp, arrival_utime);
+  image.frame_id = msg.header.frame_id;
   return image;
 }
 
@@ -22,6 +23,7 @@ SensorImage RosSensorFrames::Image(RosCompressedImage msg, int64_t arrival_utime
   image.height = decoded.rows;
   CheckSize(image.width, image.height);
   image.utime = Stamp(msg.header.stamp, arrival_utime);
+  image.frame_id = msg.header.frame_id;
   image.encoded = std::move(msg.data);
   return image;
 }
@@ -31,6 +33,7 @@ SensorScan RosSensorFrames::Cloud(const RosPointCloud2& msg, int64_t arrival_uti
   scan.cloud = RosCloudToPointCloud(msg, &scan.dropped);
   if (scan.cloud.empty()) throw std::runtime_error("no finite point in " + std::to_string(scan.dropped));
   scan.utime = Stamp(msg.header.stamp, arrival_utime);
+  scan.frame_id = msg.header.frame_id;
   return scan;
 }
 

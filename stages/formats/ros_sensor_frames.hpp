@@ -21,12 +21,14 @@ struct SensorImage {
   std::vector<uint8_t> encoded;
   std::string encoding;
   int width = 0, height = 0;
+  std::string frame_id;  // the header's: the camera's optical frame
 };
 
 struct SensorScan {
   int64_t utime = 0;
   PointCloud cloud;
-  int dropped = 0;  // points without a return (non-finite or at the origin)
+  int dropped = 0;       // points without a return (non-finite or at the origin)
+  std::string frame_id;  // the header's: the LiDAR's frame
 };
 
 class RosSensorFrames {

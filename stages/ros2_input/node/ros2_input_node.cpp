@@ -134,13 +134,14 @@ void Ros2InputNode::Publish(Bus& bus, const Ros2InputFrame& frame) {
   }
   if (frame.image) {
     const SensorImage& image = *frame.image;
+    const std::string frame_id = image.frame_id.empty() ? "camera" : image.frame_id;
     if (image.encoded.empty()) {
       bus.Publish(channels::kCameraImage,
-                  MatToImage(image.pixels, image.pixels.channels() == 1 ? "mono8" : "bgr8", image.utime));
+                  MatToImage(image.pixels, image.pixels.channels() == 1 ? "mono8" : "bgr8", image.utime, frame_id));
     } else {
       image_t msg{};
       msg.utime = image.utime;
-      msg.frame_id = "camera";
+      msg.frame_id = frame_id;
       msg.width = image.width;
       msg.height = image.height;
       msg.encoding = image.encoding;
@@ -153,7 +154,8 @@ void Ros2InputNode::Publish(Bus& bus, const Ros2InputFrame& frame) {
     last_stamp_ = std::max(last_stamp_, image.utime);
   }
   if (frame.scan) {
-    bus.Publish(channels::kLidarScan, CloudToMsg(frame.scan->cloud, frame.scan->utime));
+    bus.Publish(channels::kLidarScan, CloudToMsg(frame.scan->cloud, frame.scan->utime,
+                                                 frame.scan->frame_id.empty() ? "lidar" : frame.scan->frame_id));
     ++published_scans_;
     first_stamp_ = std::min(first_stamp_, frame.scan->utime);
     last_stamp_ = std::max(last_stamp_, frame.scan->utime);

@@ -63,7 +63,7 @@ void Ros2TfNode::ReadTree() {
           const auto& t = message->transforms_._buffer[k];
           const std::string parent = t.header_.frame_id_ ? t.header_.frame_id_ : "";
           const std::string child = t.child_frame_id_ ? t.child_frame_id_ : "";
-          if (parent == settings_.parent_frame && child == child_name_) continue;  // ours
+          if (parent == parent_name_ && child == child_name_) continue;  // ours
           frames_.Add(parent, child);
         }
       }
@@ -95,19 +95,29 @@ Ros2TfNode::~Ros2TfNode() {
 
 void Ros2TfNode::Start(Bus& bus) {
   subscriptions_.push_back(bus.Subscribe(typed_channels::kExtrinsic, [this](const extrinsic_t& e) { OnExtrinsic(e); }));
-  if (overlay_writer_ > 0)
-    subscriptions_.push_back(bus.Subscribe(typed_channels::kStation, [this](const station_t& s) {
-      station_ = std::make_unique<station_t>(s);
-      PublishOverlay();
-    }));
+  // Stations: the frames the sensors' headers name, and the overlay.
+  subscriptions_.push_back(bus.Subscribe(typed_channels::kStation, [this](const station_t& s) {
+    if (!s.image.frame_id.empty()) header_parent_ = s.image.frame_id;
+    if (!s.cloud.frame_id.empty()) header_child_ = s.cloud.frame_id;
+    if (overlay_writer_ <= 0) return;
+    station_ = std::make_unique<station_t>(s);
+    PublishOverlay();
+  }));
+}
+
+std::string Ros2TfNode::ParentFrame() const {
+  return !settings_.parent_frame.empty() ? settings_.parent_frame : header_parent_;
+}
+
+std::string Ros2TfNode::ChildFrame() const {
+  return !settings_.child_frame.empty() ? settings_.child_frame : header_child_;
 }
 
 void Ros2TfNode::Tick(Bus&, int64_t now_utime) {
   ReadTree();
   // A parent of the child frame learned after the calibration was published: publish it again under the
   // new name (late joiners then get that one).
-  if (extrinsic_ && frames_.ChildName(settings_.parent_frame, settings_.child_frame) != child_name_)
-    WriteTransform(*extrinsic_);
+  if (extrinsic_ && frames_.ChildName(ParentFrame(), ChildFrame()) != child_name_) WriteTransform(*extrinsic_);
   if (diagnostics_writer_ <= 0 || !latest_ || now_utime - last_diagnostics_utime_ < kDiagnosticsPeriodUs) return;
   last_diagnostics_utime_ = now_utime;
   PublishDiagnostics();
@@ -133,21 +143,21 @@ void Ros2TfNode::OnExtrinsic(const extrinsic_t& e) {
 }
 
 void Ros2TfNode::WriteTransform(const extrinsic_t& e) {
-  const std::string child = frames_.ChildName(settings_.parent_frame, settings_.child_frame);
-  if (child != child_name_ && child != settings_.child_frame)
+  const std::string parent = ParentFrame(), child = frames_.ChildName(parent, ChildFrame());
+  if (child != child_name_ && child != ChildFrame())
     std::fprintf(stderr,
                  "ros2_tf: %s already has the parent %s on /tf or /tf_static; publishing the calibration as %s -> %s "
                  "so that the tree keeps one parent per frame\n",
-                 settings_.child_frame.c_str(),
-                 frames_.OtherParent(settings_.parent_frame, settings_.child_frame).c_str(),
-                 settings_.parent_frame.c_str(), child.c_str());
+                 ChildFrame().c_str(), frames_.OtherParent(parent, ChildFrame()).c_str(), parent.c_str(),
+                 child.c_str());
   child_name_ = child;
+  parent_name_ = parent;
   const Isometry3 T = FromRowMajor(e.T_camera_lidar);
   const Eigen::Quaterniond q(T.linear());
   geometry_msgs_msg_dds__TransformStamped_ transform{};
   transform.header_.stamp_.sec_ = static_cast<int32_t>(e.utime / 1000000);
   transform.header_.stamp_.nanosec_ = static_cast<uint32_t>((e.utime % 1000000) * 1000);
-  transform.header_.frame_id_ = const_cast<char*>(settings_.parent_frame.c_str());
+  transform.header_.frame_id_ = const_cast<char*>(parent_name_.c_str());
   transform.child_frame_id_ = const_cast<char*>(child_name_.c_str());
   transform.transform_.translation_ = {T.translation().x(), T.translation().y(), T.translation().z()};
   transform.transform_.rotation_ = {q.x(), q.y(), q.z(), q.w()};
@@ -165,7 +175,7 @@ void Ros2TfNode::PublishOverlay() {
   const auto camera = MakeCameraModel(CameraFromMsg(station_->camera));
   const RosImage image = ToRosImage(DrawPointsOnImage(ImageToMat(station_->image), CloudFromMsg(station_->cloud),
                                                       *camera, FromRowMajor(extrinsic_->T_camera_lidar)),
-                                    RosHeader{UtimeToRosStamp(station_->utime), settings_.parent_frame});
+                                    RosHeader{UtimeToRosStamp(station_->utime), ParentFrame()});
   sensor_msgs_msg_dds__Image_ out{};
   out.header_.stamp_.sec_ = static_cast<int32_t>(image.header.stamp.sec);
   out.header_.stamp_.nanosec_ = image.header.stamp.nsec;
@@ -191,7 +201,8 @@ void Ros2TfNode::PublishDiagnostics() {
   status.level_ = report.level;
   status.name_ = const_cast<char*>("fusecal: camera-LiDAR extrinsic");
   status.message_ = const_cast<char*>(report.message.c_str());
-  status.hardware_id_ = const_cast<char*>(settings_.parent_frame.c_str());
+  const std::string hardware_id = ParentFrame();
+  status.hardware_id_ = const_cast<char*>(hardware_id.c_str());
   status.values_._maximum = status.values_._length = static_cast<uint32_t>(values.size());
   status.values_._buffer = values.data();
   status.values_._release = false;
@@ -210,8 +221,7 @@ void Ros2TfNode::PublishDiagnostics() {
 
 StageStatus Ros2TfNode::Status() const {
   StageStatus s;
-  s.state = published_ ? "publishing rt/tf_static: " + settings_.parent_frame + " -> " + child_name_
-                       : "waiting for EXTRINSIC";
+  s.state = published_ ? "publishing rt/tf_static: " + parent_name_ + " -> " + child_name_ : "waiting for EXTRINSIC";
   s.counters = {{"published", published_},
                 {"version", last_version_},
                 {"domain", settings_.domain},

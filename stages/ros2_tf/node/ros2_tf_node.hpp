@@ -1,6 +1,7 @@
 // fusecal-ros2-tf: ROS 2 without ROS. Every EXTRINSIC becomes a tf2_msgs/TFMessage on the DDS topic
 // `rt/tf_static` (reliable, transient local, depth 1, as tf2_ros's static broadcaster does), so a ROS 2
-// system on the same domain sees parent_frame -> child_frame (T_camera_lidar) with no bridge. For the
+// system on the same domain sees parent_frame -> child_frame (T_camera_lidar) with no bridge; frames the
+// config does not name are the ones in the headers of the sensors' messages (via STATION). For the
 // user watching in rviz, Foxglove or rqt: the latest STATION's image with its points drawn through the
 // latest extrinsic as a sensor_msgs/Image on `overlay_topic` (reliable, transient local, depth 1), and
 // the calibration's state as a diagnostic_msgs/DiagnosticArray on `rt/diagnostics` (1 Hz). The types
@@ -36,6 +37,9 @@ class Ros2TfNode : public StageNode {
   void WriteTransform(const extrinsic_t& extrinsic);
   // Takes what other publishers sent on rt/tf_static and rt/tf into frames_.
   void ReadTree();
+  // The camera's and the LiDAR's frame: the config's, else the ones the sensors' messages name.
+  std::string ParentFrame() const;
+  std::string ChildFrame() const;
   int MakeTreeReader(const std::string& dds_topic, bool transient_local);
   void PublishOverlay();
   void PublishDiagnostics();
@@ -52,7 +56,8 @@ class Ros2TfNode : public StageNode {
   std::vector<Subscription> subscriptions_;
   int tf_static_reader_ = 0, tf_reader_ = 0;  // dds_entity_t
   FrameParents frames_;
-  std::string child_name_;  // the child frame the calibration was last published under
+  std::string parent_name_, child_name_;                           // the frames the calibration was last published with
+  std::string header_parent_ = "camera", header_child_ = "lidar";  // as the stations' messages name them
   int published_ = 0;
   int last_version_ = -1;
 };

@@ -8,8 +8,8 @@ namespace fusecal {
 
 std::string Ros2TfSettings::Validate() const {
   if (domain < 0 || domain > 232) return "domain: must be in [0, 232]";
-  if (parent_frame.empty() || child_frame.empty() || parent_frame == child_frame)
-    return "parent_frame and child_frame must be two different, non-empty frame ids";
+  if (!parent_frame.empty() && parent_frame == child_frame)
+    return "parent_frame and child_frame must be two different frame ids";
   if (!overlay_topic.empty()) return RosTopicProblem("overlay_topic", overlay_topic);
   return {};
 }

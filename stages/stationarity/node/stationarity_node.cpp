@@ -80,6 +80,7 @@ void StationarityNode::Tick(Bus& bus, int64_t) {
 void StationarityNode::TakeImage(Bus& bus, const std::vector<uint8_t>& bytes) {
   auto msg = std::make_shared<image_t>();
   DecodeMessage(bytes.data(), bytes.size(), channels::kCameraImage, msg.get());
+  if (!msg->frame_id.empty()) image_frame_id_ = msg->frame_id;
   const cv::Mat motion_image = ImageToMatReduced(*msg, detector_.settings().image.working_width_px);
   StationarityDetector::StationImage station_image;
   if (msg->encoding == "jpeg")
@@ -92,6 +93,7 @@ void StationarityNode::TakeImage(Bus& bus, const std::vector<uint8_t>& bytes) {
 void StationarityNode::TakeScan(Bus& bus, const std::vector<uint8_t>& bytes) {
   point_cloud_t msg;
   DecodeMessage(bytes.data(), bytes.size(), channels::kLidarScan, &msg);
+  if (!msg.frame_id.empty()) scan_frame_id_ = msg.frame_id;
   for (const auto& s : detector_.AddScan(msg.utime, CloudFromMsg(msg))) Emit(bus, s);
 }
 
@@ -105,8 +107,8 @@ void StationarityNode::Emit(Bus& bus, const DetectedStation& s) {
   msg.id = s.id;
   msg.still_from_utime = s.still_from;
   msg.still_to_utime = s.still_to;
-  msg.image = MatToImage(s.image, s.image.channels() == 1 ? "mono8" : "bgr8", s.image_utime);
-  msg.cloud = CloudToMsg(s.cloud, s.scan_utime);
+  msg.image = MatToImage(s.image, s.image.channels() == 1 ? "mono8" : "bgr8", s.image_utime, image_frame_id_);
+  msg.cloud = CloudToMsg(s.cloud, s.scan_utime, scan_frame_id_);
   msg.camera = *camera_;
   bus.Publish(channels::kStation, msg);
   ++stations_;

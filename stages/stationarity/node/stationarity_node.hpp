@@ -67,6 +67,8 @@ class StationarityNode : public StageNode {
   std::deque<QueuedFrame> queue_;  // both streams, arrival order
   int queued_images_ = 0, queued_scans_ = 0;
   std::optional<camera_info_t> camera_;
+  // The frames the sensors' messages name (a ROS header's frame_id), passed on in STATION.
+  std::string image_frame_id_ = "camera", scan_frame_id_ = "lidar";
   std::vector<Subscription> subscriptions_;
   int stations_ = 0, without_camera_info_ = 0;
   long images_skipped_ = 0, scans_skipped_ = 0, images_decimated_ = 0;

@@ -53,19 +53,21 @@ TEST(Ros2SensorInput, EachTopicBecomesItsFrameAndTheCameraIsTakenOnce) {
 
   cv::Mat pixels(6, 8, CV_8UC3, cv::Scalar(10, 20, 30));
   pixels.at<cv::Vec3b>(2, 3) = {1, 2, 3};
-  const auto image = EncodeCdr(ToRosImage(pixels, Header(kT0 + 5)));
+  const auto image = EncodeCdr(ToRosImage(pixels, RosHeader{UtimeToRosStamp(kT0 + 5), "cam0_optical"}));
   const Ros2InputFrame got = input.Take(Ros2SensorTopic::kImage, image.data(), image.size(), kT0 + 900);
   ASSERT_TRUE(got.image) << got.error;
-  EXPECT_EQ(got.image->utime, kT0 + 5);  // the header stamp, not the arrival
+  EXPECT_EQ(got.image->utime, kT0 + 5);            // the header stamp, not the arrival
+  EXPECT_EQ(got.image->frame_id, "cam0_optical");  // the header's frame, for tf
   EXPECT_EQ(cv::norm(got.image->pixels, pixels, cv::NORM_INF), 0.0);
 
   PointCloud cloud;
   cloud.points = {{1, 2, 3}, {0, 0, 0}, {4, 5, 6}};
   cloud.intensity = {0.5f, 0.f, 7.f};
   cloud.ring = {0, 1, 63};
-  const auto scan = EncodeCdr(ToRosPointCloud2(cloud, Header(kT0 + 7)));
+  const auto scan = EncodeCdr(ToRosPointCloud2(cloud, RosHeader{UtimeToRosStamp(kT0 + 7), "os_sensor"}));
   const Ros2InputFrame taken = input.Take(Ros2SensorTopic::kCloud, scan.data(), scan.size(), kT0 + 900);
   ASSERT_TRUE(taken.scan) << taken.error;
+  EXPECT_EQ(taken.scan->frame_id, "os_sensor");
   EXPECT_EQ(taken.scan->dropped, 1);  // the point at the origin has no return
   ASSERT_EQ(taken.scan->cloud.size(), 2u);
   EXPECT_EQ(taken.scan->cloud.points[1], cloud.points[2]);

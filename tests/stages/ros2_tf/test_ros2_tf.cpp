@@ -149,11 +149,12 @@ TEST(Ros2Tf, TheOverlayImageAndTheDiagnosticsReachRos2Readers) {
   station_t station{};
   station.utime = 1700000002000000;
   station.id = 3;
-  station.image = MatToImage(cv::Mat(48, 64, CV_8UC1, cv::Scalar(128)), "mono8", station.utime);
+  // The frames as a ROS 2 robot's headers name them (the config names none).
+  station.image = MatToImage(cv::Mat(48, 64, CV_8UC1, cv::Scalar(128)), "mono8", station.utime, "cam0_optical");
   PointCloud cloud;
   for (int i = -2; i <= 2; ++i)
     for (int j = -2; j <= 2; ++j) cloud.points.emplace_back(0.5f * i, 0.4f * j, 4.0f);
-  station.cloud = CloudToMsg(cloud, station.utime);
+  station.cloud = CloudToMsg(cloud, station.utime, "os_sensor");
   CameraParams camera;
   camera.width = 64;
   camera.height = 48;
@@ -189,6 +190,7 @@ TEST(Ros2Tf, TheOverlayImageAndTheDiagnosticsReachRos2Readers) {
   EXPECT_EQ(image->width_, 64u);
   EXPECT_EQ(image->height_, 48u);
   EXPECT_STREQ(image->encoding_, "bgr8");
+  EXPECT_STREQ(image->header_.frame_id_, "cam0_optical");
   ASSERT_EQ(image->data_._length, 64u * 48u * 3u);
   int coloured = 0;  // pixels no longer grey: the drawn points
   for (uint32_t p = 0; p < 64 * 48; ++p) {
@@ -205,6 +207,7 @@ TEST(Ros2Tf, TheOverlayImageAndTheDiagnosticsReachRos2Readers) {
   for (uint32_t i = 0; i < status.values_._length; ++i)
     values[status.values_._buffer[i].key_] = status.values_._buffer[i].value_;
   EXPECT_EQ(values["version"], "4");
+  EXPECT_STREQ(status.hardware_id_, "cam0_optical");
   EXPECT_EQ(values["translation_m"], "[0.0000, 0.0000, 0.0000]");
   dds_return_loan(overlay, image_sample, 1);
   dds_return_loan(diagnostics, diagnostic_sample, 1);

@@ -78,8 +78,8 @@ TEST(PipelineConfig, OutOfRangeValuesNameTheKeyAndTheRange) {
       {"handeye", "shared_errors: {lidar: {range_scale: 1e-3}}", &kHandEye,
        "unknown key: 'handeye.shared_errors.lidar.range_scale'"},
       {"ros2_tf", "domain: 300", &kRos2Tf, "'ros2_tf.domain' must be in [0, 232]"},
-      {"ros2_tf", "child_frame: camera", &kRos2Tf,
-       "'ros2_tf': parent_frame and child_frame must be two different, non-empty frame ids"},
+      {"ros2_tf", "parent_frame: camera, child_frame: camera", &kRos2Tf,
+       "'ros2_tf': parent_frame and child_frame must be two different frame ids"},
   };
   for (const Case& c : cases) {
     const std::string error = ErrorOf(c.section, c.line, *c.read);
