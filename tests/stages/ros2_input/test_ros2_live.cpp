@@ -47,18 +47,21 @@ class Ros2Live : public ::testing::Test {
     reference_ = ReadResultFile(Dir() + "/ref/extrinsic.yaml");
   }
 
-  // The pipeline config with this test's DDS domain for ROS 2 (sensors and tf).
+  // The pipeline config as shipped, which names no ROS 2 domain: the run takes ROS_DOMAIN_ID (RunRos2).
   static std::string Config(int domain, double topic_timeout_s, const std::string& image_topic = "/camera/image_raw") {
     std::string text = ReadAll(PIPELINE_CONFIG);
-    text = std::regex_replace(text, std::regex("(ros2_tf:\\n  enabled: false\\n  domain:) 0"),
-                              "$1 " + std::to_string(domain));
-    text = std::regex_replace(text, std::regex("(ros2_input:\\n  domain:) 0"), "$1 " + std::to_string(domain));
+    EXPECT_FALSE(std::regex_search(text, std::regex("\\n  domain:"))) << "the shipped config sets a ROS 2 domain";
     text = std::regex_replace(text, std::regex("topic_timeout_s: 15"),
                               "topic_timeout_s: " + std::to_string(topic_timeout_s));
     text = std::regex_replace(text, std::regex("image_topic: /camera/image_raw"), "image_topic: " + image_topic);
     const std::string path = Dir() + "/config_" + std::to_string(domain) + ".yaml";
     std::ofstream(path) << text;
     return path;
+  }
+
+  // `fusecal run --ros2` in ROS 2 domain `domain`, set as ROS 2 users set it.
+  static std::string RunRos2(int domain) {
+    return "env ROS_DOMAIN_ID=" + std::to_string(domain) + " " + kFusecal + " run --ros2";
   }
 
   // LCM on a port of its own, so that tests running at the same time do not meet.
@@ -85,9 +88,9 @@ class Ros2Live : public ::testing::Test {
                      const std::string& image_topic = "/camera/image_raw") {
     const std::string out = Dir() + "/live_" + std::to_string(domain), run_log = out + ".log";
     fs::remove_all(out);
-    const pid_t run = StartInBackground(kFusecal + " run --ros2 --config " + Config(domain, 30, image_topic) +
-                                            " --bus " + Bus(domain) + " --out " + out,
-                                        run_log);
+    const pid_t run = StartInBackground(
+        RunRos2(domain) + " --config " + Config(domain, 30, image_topic) + " --bus " + Bus(domain) + " --out " + out,
+        run_log);
     ASSERT_GT(run, 0);
     const auto played =
         RunCommand(peer + " play " + log_ + " --domain " + std::to_string(domain) + " " + play_flags + " 2>&1");
@@ -170,7 +173,7 @@ TEST_F(Ros2Live, FastDdsPeerBestEffortCompressedImages) {
 TEST_F(Ros2Live, NoPublisherEndsWithWhatTheDomainHas) {
   const std::string out = Dir() + "/silent";
   const auto run =
-      RunCommand(kFusecal + " run --ros2 --config " + Config(75, 3) + " --bus " + Bus(75) + " --out " + out + " 2>&1");
+      RunCommand(RunRos2(75) + " --config " + Config(75, 3) + " --bus " + Bus(75) + " --out " + out + " 2>&1");
   EXPECT_EQ(run.exit_code, 1) << run.output;
   EXPECT_NE(run.output.find("no message in 3 s on ROS 2 domain 75 on /camera/image_raw (sensor_msgs/msg/Image), "
                             "/lidar/points (sensor_msgs/msg/PointCloud2), /camera/camera_info"),
