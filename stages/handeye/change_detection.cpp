@@ -286,7 +286,8 @@ std::optional<int> ChangeDetector::Add(const PairTest& test) {
   for (const TestedPair& candidate : recent_) {
     if (!candidate.off) continue;
     for (const bool metric : {false, true}) {
-      if (!Confirms(candidate, metric)) continue;
+      // Off by the tests of this kind and confirmed by the tests of the same kind.
+      if (!candidate.Evidence(metric).off || !Confirms(candidate, metric)) continue;
       const int after_station = Locate(candidate, metric).station_i;
       recent_.clear();
       return after_station;

@@ -132,9 +132,9 @@ class ChangeDetector {
  public:
   explicit ChangeDetector(ChangeDetectionSettings settings = {}) : settings_(settings) {}
   // Adds the newest test, or the second test of a pair already there (off when either is); the station
-  // after which the extrinsic changed when the rule decides. The pairs after an off pair confirm it by
-  // the tests of their scaleless motions or by those of their metric ones: fusion odometry places the
-  // LiDAR's points with the estimate, which moves a metric motion toward it, while the images' direction
+  // after which the extrinsic changed when the rule decides. A pair off by the test of its scaleless motion
+  // is confirmed by the tests of the scaleless motions after it, one off by its metric test by theirs: fusion odometry
+  // places the LiDAR's points with the estimate, which moves a metric motion toward it, while the images' direction
   // does not see a change along the camera's own path.
   std::optional<int> Add(const PairTest& test);
   void Reset() { recent_.clear(); }
