@@ -18,6 +18,22 @@ namespace fusecal {
 
 namespace {
 constexpr int64_t kDiagnosticsPeriodUs = 1000000;  // 1 Hz, as ROS 2's diagnostic_updater
+
+dds_entity_t CreateTopic(dds_entity_t participant, const dds_topic_descriptor_t* descriptor,
+                         const std::string& dds_topic) {
+  const dds_entity_t topic = dds_create_topic(participant, descriptor, dds_topic.c_str(), nullptr, nullptr);
+  if (topic < 0) throw std::runtime_error("ros2_tf: cannot create topic " + dds_topic + ": " + DdsErrorText(topic));
+  return topic;
+}
+
+// Reliable or best effort, transient local or volatile, keep last `depth`; the caller deletes it.
+dds_qos_t* CreateQos(bool reliable, bool transient_local, int depth) {
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, reliable ? DDS_RELIABILITY_RELIABLE : DDS_RELIABILITY_BEST_EFFORT, DDS_SECS(1));
+  dds_qset_durability(qos, transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, depth);
+  return qos;
+}
 }  // namespace
 
 Ros2TfNode::Ros2TfNode(const Ros2TfSettings& settings) : settings_(settings) {
@@ -34,14 +50,9 @@ Ros2TfNode::Ros2TfNode(const Ros2TfSettings& settings) : settings_(settings) {
 // tf2_ros's listeners: /tf_static reliable and transient local (a late joiner gets the tree), /tf best
 // effort (matches every writer).
 int Ros2TfNode::MakeTreeReader(const std::string& dds_topic, bool transient_local) {
-  const dds_entity_t topic =
-      dds_create_topic(participant_, &tf2_msgs_msg_dds__TFMessage__desc, dds_topic.c_str(), nullptr, nullptr);
-  if (topic < 0) throw std::runtime_error("ros2_tf: cannot create topic " + dds_topic + ": " + DdsErrorText(topic));
-  dds_qos_t* qos = dds_create_qos();
-  dds_qset_reliability(qos, transient_local ? DDS_RELIABILITY_RELIABLE : DDS_RELIABILITY_BEST_EFFORT, DDS_SECS(1));
-  dds_qset_durability(qos, transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
-  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 100);
-  const dds_entity_t reader = dds_create_reader(participant_, topic, qos, nullptr);
+  dds_qos_t* qos = CreateQos(transient_local, transient_local, 100);
+  const dds_entity_t reader = dds_create_reader(
+      participant_, CreateTopic(participant_, &tf2_msgs_msg_dds__TFMessage__desc, dds_topic), qos, nullptr);
   dds_delete_qos(qos);
   if (reader < 0)
     throw std::runtime_error("ros2_tf: cannot create the " + dds_topic + " reader: " + DdsErrorText(reader));
@@ -75,14 +86,10 @@ void Ros2TfNode::ReadTree() {
 
 // Reliable, depth 1; transient local (a late subscriber gets the latest) or volatile.
 int Ros2TfNode::MakeWriter(const std::string& dds_topic, const void* descriptor, bool transient_local) {
-  const dds_entity_t topic = dds_create_topic(participant_, static_cast<const dds_topic_descriptor_t*>(descriptor),
-                                              dds_topic.c_str(), nullptr, nullptr);
-  if (topic < 0) throw std::runtime_error("ros2_tf: cannot create topic " + dds_topic + ": " + DdsErrorText(topic));
-  dds_qos_t* qos = dds_create_qos();
-  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
-  dds_qset_durability(qos, transient_local ? DDS_DURABILITY_TRANSIENT_LOCAL : DDS_DURABILITY_VOLATILE);
-  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 1);
-  const dds_entity_t writer = dds_create_writer(participant_, topic, qos, nullptr);
+  dds_qos_t* qos = CreateQos(true, transient_local, 1);
+  const dds_entity_t writer = dds_create_writer(
+      participant_, CreateTopic(participant_, static_cast<const dds_topic_descriptor_t*>(descriptor), dds_topic), qos,
+      nullptr);
   dds_delete_qos(qos);
   if (writer < 0)
     throw std::runtime_error("ros2_tf: cannot create the " + dds_topic + " writer: " + DdsErrorText(writer));

@@ -123,6 +123,22 @@ TEST_F(FastDdsPeer, PlaysCompressedImagesWithTheSensorDataQos) {
 }
 
 #ifdef ROS2_TF_BIN
+// Version 3 of `X`, converged, stamped 1700000001.5 s, on `bus` for 3 s: until fusecal-ros2-tf is surely up
+// (it ignores repeats of a version).
+void PublishConvergedExtrinsic(const std::string& bus, const Isometry3& X) {
+  extrinsic_t e{};
+  e.utime = 1700000001500000;
+  e.version = 3;
+  ToRowMajor(X, e.T_camera_lidar);
+  e.status = extrinsic_t::STATUS_CONVERGED;
+  e.converged = true;
+  auto fusecal_bus = MakeBus(bus);
+  for (int k = 0; k < 30; ++k) {
+    fusecal_bus->Publish("EXTRINSIC", e);
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+}
+
 // fusecal-ros2-tf is fed one extrinsic on its LCM bus (a port of this test's own) and publishes it.
 TEST_F(FastDdsPeer, ReadsTfStaticFromFusecal) {
   constexpr int kDomain = 63;
@@ -137,18 +153,7 @@ TEST_F(FastDdsPeer, ReadsTfStaticFromFusecal) {
   Isometry3 X = Isometry3::Identity();
   X.linear() = Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   X.translation() = Eigen::Vector3d(0.1, -0.2, 0.3);
-  extrinsic_t e{};
-  e.utime = 1700000001500000;
-  e.version = 3;
-  ToRowMajor(X, e.T_camera_lidar);
-  e.status = extrinsic_t::STATUS_CONVERGED;
-  e.converged = true;
-  auto fusecal_bus = MakeBus(bus);
-  // Until the node is surely up (it ignores repeats of a version); the reader joins after the write.
-  for (int k = 0; k < 30; ++k) {
-    fusecal_bus->Publish("EXTRINSIC", e);
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  PublishConvergedExtrinsic(bus, X);  // the reader joins after the write
   const auto tf = RunCommand(kPeer + " tf-listen --domain " + std::to_string(kDomain) + " --timeout 15 2>&1");
   kill(node, SIGTERM);
   waitpid(node, nullptr, 0);
@@ -178,17 +183,7 @@ TEST_F(FastDdsPeer, TheCalibrationGivesNoFrameASecondParent) {
       StartInBackground(std::string(ROS2_TF_BIN) + " --config " + config + " --bus '" + bus + "'", node_log);
   ASSERT_GT(node, 0);
   std::this_thread::sleep_for(std::chrono::seconds(3));  // discovery: the node learns the robot's tree
-  extrinsic_t e{};
-  e.utime = 1700000001500000;
-  e.version = 3;
-  ToRowMajor(Isometry3::Identity(), e.T_camera_lidar);
-  e.status = extrinsic_t::STATUS_CONVERGED;
-  e.converged = true;
-  auto fusecal_bus = MakeBus(bus);
-  for (int k = 0; k < 30; ++k) {
-    fusecal_bus->Publish("EXTRINSIC", e);
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
+  PublishConvergedExtrinsic(bus, Isometry3::Identity());
   const auto tf =
       RunCommand(kPeer + " tf-listen --count 2 --domain " + std::to_string(kDomain) + " --timeout 15 2>/dev/null");
   kill(node, SIGTERM);
