@@ -317,7 +317,7 @@ std::vector<BadCase> Cases() {
   c.push_back({"ResultFileNotYaml", [=] { WriteAll(In("result.yaml"), "T_camera_lidar: [1, 2\n"); },
                "evaluate --result " + In("result.yaml") + " --truth " + GoodLog(), "result.yaml"});
   c.push_back({"ExportToUnknownFormat", [=] { WriteAll(In("result.yaml"), ""); },
-               "export " + In("result.yaml") + " --format urdf", "urdf"});
+               "export " + In("result.yaml") + " --format sdf", "sdf"});
   return c;
 }
 
