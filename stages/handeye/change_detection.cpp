@@ -139,7 +139,9 @@ PairTest TestPair(const MotionPair& measured, const HandEyeResult& estimate, con
   const bool floored = estimate.noise_rot_deg <= rot_floor_deg && estimate.noise_trans_m <= trans_floor_m;
   test.noise_dof = floored ? kKnownNoiseDof : std::max(1, 3 * static_cast<int>(estimate.used_pairs.size()) - 6);
   MotionPair pair = measured;
-  const Eigen::MatrixXd M = TestedResiduals(&pair, R, t, settings.min_direction_length * noise.trans_sigma_m);
+  const double min_length = settings.test_direction ? settings.min_direction_length * noise.trans_sigma_m
+                                                    : std::numeric_limits<double>::infinity();
+  const Eigen::MatrixXd M = TestedResiduals(&pair, R, t, min_length);
   const Matrix6 J_X = handeye::JacobianWrtExtrinsic(pair, R);
   const Matrix6 C_pair = handeye::ResidualCovariance(pair, R, t, noise);
   const Matrix6 C = C_pair + J_X * estimate.covariance * J_X.transpose();

@@ -59,6 +59,7 @@ CalibratorSettings ReadCalibratorSettings(ConfigReader r) {
   change.Get("confirm_probability", &s.change_detection.confirm_probability);
   change.Get("window", &s.change_detection.window);
   change.Get("noise_floor_fraction", &s.change_detection.noise_floor_fraction);
+  change.Get("test_direction", &s.change_detection.test_direction);
   change.Get("min_direction_length", &s.change_detection.min_direction_length);
   change.Finish();
   ConfigReader shared = r.Child("shared_errors");

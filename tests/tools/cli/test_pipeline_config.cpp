@@ -102,13 +102,14 @@ TEST(PipelineConfig, ValuesWithinTheSettingsRangesAreAccepted) {
 TEST(PipelineConfig, ChangeDetectionIsReadAndABadValueIsNamed) {
   ConfigReader config = ConfigReader::FromString(
       "handeye: {change_detection: {enabled: false, off_probability: 1.0e-4, confirm_probability: 1.0e-2, window: 5, "
-      "noise_floor_fraction: 0.2, min_direction_length: 4}}");
+      "noise_floor_fraction: 0.2, test_direction: true, min_direction_length: 4}}");
   const CalibratorSettings s = ReadCalibratorSettings(config.Child("handeye"));
   EXPECT_FALSE(s.change_detection.enabled);
   EXPECT_EQ(s.change_detection.off_probability, 1e-4);
   EXPECT_EQ(s.change_detection.confirm_probability, 1e-2);
   EXPECT_EQ(s.change_detection.window, 5);
   EXPECT_EQ(s.change_detection.noise_floor_fraction, 0.2);
+  EXPECT_TRUE(s.change_detection.test_direction);
   EXPECT_EQ(s.change_detection.min_direction_length, 4);
   const std::string bad = ErrorOf("handeye", "change_detection: {off_probability: 0.7}", kHandEye);
   EXPECT_NE(bad.find("change_detection.off_probability"), std::string::npos) << bad;
