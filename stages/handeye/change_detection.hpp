@@ -63,7 +63,7 @@ struct ChangeDetectionSettings {
   double confirm_probability = 1e-3;  // beta: chance that pairs of an unchanged rig confirm an off pair
   int window = 3;                     // newest tested pairs the rule looks at
   // The pair's noise is the noise the estimate's residuals show, at least this fraction of the nominal.
-  double noise_floor_fraction = 0.05;
+  double noise_floor_fraction = 0.1;
   // Whether a scaleless camera motion's direction is tested too (when its translation is at least
   // min_direction_length times the translation noise; a turn on the spot has no direction). Off by default:
   // a camera with a narrow field of view gets directions from the 5-point solver far noisier than its
