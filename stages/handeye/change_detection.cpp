@@ -134,8 +134,9 @@ PairTest TestPair(const MotionPair& measured, const HandEyeResult& estimate, con
   const double trans_floor_m = floor * solver.nominal_translation_sigma_m;
   noise.rot_sigma_rad = std::max(estimate.noise_rot_deg, rot_floor_deg) * M_PI / 180.0;
   noise.trans_sigma_m = std::max(estimate.noise_trans_m, trans_floor_m);
-  // That noise is itself estimated, rotation and translation each from 3 residuals per pair less 3
-  // unknowns; where the floor holds both, it is a known value (chi^2).
+  // That noise is itself estimated, from 3 residuals per pair less the 6 unknowns (conservative: rotation
+  // and translation are each estimated from 3 n - 3); where the floor holds both, it is a known value
+  // (chi^2).
   const bool floored = estimate.noise_rot_deg <= rot_floor_deg && estimate.noise_trans_m <= trans_floor_m;
   test.noise_dof = floored ? kKnownNoiseDof : std::max(1, 3 * static_cast<int>(estimate.used_pairs.size()) - 6);
   MotionPair pair = measured;

@@ -6,7 +6,7 @@
 //   C = J_A S_A J_A^T + J_B S_B J_B^T + J_X S_X J_X^T
 // (the pair's own noise at the noise the estimate's residuals show, never below a floor, and the estimate's
 // covariance S_X), so
-//   d^2 = r^T C^-1 r,   d^2 / k  ~  F(k, nu),   k = 6 for a metric camera motion, nu = 3 n - 3 the
+//   d^2 = r^T C^-1 r,   d^2 / k  ~  F(k, nu),   k = 6 for a metric camera motion, nu = 3 n - 6 the
 // residuals the noise of a solve of n pairs was estimated from (chi^2(k) for many pairs; a solve of few
 // pairs fits its residuals too well, and the F quantile allows for that; chi^2(k) also where the floor
 // holds, a noise not estimated but stated). A scaleless camera motion is tested on its rotation (k = 3);
@@ -138,7 +138,8 @@ class ChangeDetector {
   explicit ChangeDetector(ChangeDetectionSettings settings = {}) : settings_(settings) {}
   // Adds the newest test, or the second test of a pair already there (off when either is); the station
   // after which the extrinsic changed when the rule decides. A pair off by the test of its scaleless motion
-  // is confirmed by the tests of the scaleless motions after it, one off by its metric test by theirs: fusion odometry
+  // is confirmed by the tests of the scaleless motions after it, one off by its metric test by theirs (a
+  // pair without a test of that kind yet takes part with the one it has): fusion odometry
   // places the LiDAR's points with the estimate, which moves a metric motion toward it, while the images' direction
   // does not see a change along the camera's own path.
   std::optional<int> Add(const PairTest& test);
