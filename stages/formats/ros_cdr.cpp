@@ -43,6 +43,7 @@ class CdrReader {
   bool Bool(const std::string& field) { return U8(field) != 0; }
   uint32_t U32(const std::string& field) { return static_cast<uint32_t>(Primitive(4, field)); }
   int32_t I32(const std::string& field) { return static_cast<int32_t>(U32(field)); }
+  uint64_t U64(const std::string& field) { return Primitive(8, field); }
   double F64(const std::string& field) {
     const uint64_t bits = Primitive(8, field);
     double value;
@@ -77,6 +78,17 @@ class CdrReader {
       Fail(field, "length " + std::to_string(count), at);
     return count;
   }
+
+  // `count` elements of `element_size` bytes each, `stride` bytes apart (the last one without the padding
+  // after it), in place: the caller reads them in byte_order_big_endian(). Follows Count().
+  const uint8_t* Elements(uint32_t count, size_t stride, size_t element_size, const std::string& field) {
+    const size_t at = pos_;
+    const uint64_t bytes = count == 0 ? 0 : (static_cast<uint64_t>(count) - 1) * stride + element_size;
+    if (pos_ > size_ || bytes > size_ - pos_) Fail(field, "(" + std::to_string(count) + " elements)", at);
+    pos_ += bytes;
+    return data_ + at;
+  }
+  bool byte_order_big_endian() const { return big_endian_; }
 
  private:
   void Align(size_t n) {
@@ -131,7 +143,50 @@ void ReadDoubles(CdrReader& in, const std::string& field, std::array<double, N>&
   for (size_t i = 0; i < N; ++i) values[i] = in.F64(field + "[" + std::to_string(i) + "]");
 }
 
+// A CustomPoint in CDR: uint32 offset_time, float32 x, y, z, uint8 reflectivity, tag, line (19 bytes),
+// padded to 20 before the next one's uint32.
+constexpr size_t kLivoxPointSize = 19;
+constexpr size_t kLivoxPointStride = 20;
+
+template <typename T>
+T LoadScalar(const uint8_t* p, bool big_endian) {
+  uint8_t bytes[sizeof(T)];
+  for (size_t i = 0; i < sizeof(T); ++i) bytes[i] = big_endian ? p[sizeof(T) - 1 - i] : p[i];
+  T value;
+  std::memcpy(&value, bytes, sizeof(T));
+  return value;
+}
+
+RosLivoxPoint LoadLivoxPoint(const uint8_t* p, bool big_endian) {
+  RosLivoxPoint point;
+  point.offset_time = LoadScalar<uint32_t>(p, big_endian);
+  point.x = LoadScalar<float>(p + 4, big_endian);
+  point.y = LoadScalar<float>(p + 8, big_endian);
+  point.z = LoadScalar<float>(p + 12, big_endian);
+  point.reflectivity = p[16];
+  point.tag = p[17];
+  point.line = p[18];
+  return point;
+}
+
 }  // namespace
+
+RosLivoxCustomMsg DecodeCdrLivoxCustomMsg(const uint8_t* data, size_t size) {
+  CdrReader in(data, size, "livox_ros_driver2/msg/CustomMsg");
+  RosLivoxCustomMsg msg;
+  msg.header = ReadHeader(in);
+  msg.timebase = in.U64("timebase");
+  msg.point_num = in.U32("point_num");
+  msg.lidar_id = in.U8("lidar_id");
+  for (size_t i = 0; i < msg.rsvd.size(); ++i) msg.rsvd[i] = in.U8("rsvd[" + std::to_string(i) + "]");
+  const uint32_t count = in.Count("points", kLivoxPointSize, 4);
+  const uint8_t* points = in.Elements(count, kLivoxPointStride, kLivoxPointSize, "points");
+  msg.points.reserve(count);
+  for (uint32_t i = 0; i < count; ++i)
+    msg.points.push_back(
+        LoadLivoxPoint(points + static_cast<size_t>(i) * kLivoxPointStride, in.byte_order_big_endian()));
+  return msg;
+}
 
 RosPointCloud2 DecodeCdrPointCloud2(const uint8_t* data, size_t size) {
   CdrReader in(data, size, "sensor_msgs/msg/PointCloud2");

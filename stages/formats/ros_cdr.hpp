@@ -20,5 +20,6 @@ RosPointCloud2 DecodeCdrPointCloud2(const uint8_t* data, size_t size);          
 RosImage DecodeCdrImage(const uint8_t* data, size_t size);                      // sensor_msgs/msg/Image
 RosCompressedImage DecodeCdrCompressedImage(const uint8_t* data, size_t size);  // .../CompressedImage
 RosCameraInfo DecodeCdrCameraInfo(const uint8_t* data, size_t size);            // sensor_msgs/msg/CameraInfo
+RosLivoxCustomMsg DecodeCdrLivoxCustomMsg(const uint8_t* data, size_t size);    // livox_ros_driver2/msg/CustomMsg
 
 }  // namespace fusecal

@@ -120,6 +120,40 @@ int16_t RingIndex(double value) {
   return static_cast<int16_t>(value);
 }
 
+// Livox's `timestamp` (float64): each point's absolute time, in nanoseconds (Livox) or seconds (Hesai's
+// field of that name). The unit is the one that puts the first point nearer the header stamp: both
+// drivers stamp the header with the scan's first point, and an unsynchronised Livox counts nanoseconds
+// from power-on, too small for a rule by magnitude. A zero header stamp (the arrival time stands in)
+// gives no times: they would be relative to another clock.
+class PointTimes {
+ public:
+  PointTimes(const RosPointCloud2& msg, const RosPointField* field) : msg_(msg), field_(field) {
+    if (!field_ || msg.header.stamp.IsZero() || msg.width == 0 || msg.height == 0) {
+      field_ = nullptr;
+      return;
+    }
+    stamp_ns_ = static_cast<double>(msg.header.stamp.sec) * 1e9 + msg.header.stamp.nsec;
+    const double first = Read(msg.data.data());
+    nanoseconds_ = std::abs(first - stamp_ns_) < std::abs(first * 1e9 - stamp_ns_);
+  }
+  bool present() const { return field_ != nullptr; }
+  float OffsetS(const uint8_t* point) const {
+    const double t = Read(point);
+    return static_cast<float>(nanoseconds_ ? (t - stamp_ns_) * 1e-9 : t - stamp_ns_ * 1e-9);
+  }
+
+ private:
+  double Read(const uint8_t* point) const {
+    const double t = ReadField(point + field_->offset, field_->datatype, msg_.is_bigendian);
+    if (!std::isfinite(t)) throw std::runtime_error("PointCloud2 " + field_->name + " is not finite");
+    return t;
+  }
+  const RosPointCloud2& msg_;
+  const RosPointField* field_;
+  double stamp_ns_ = 0;
+  bool nanoseconds_ = true;
+};
+
 void CheckCloudSize(const RosPointCloud2& msg) {
   if (msg.point_step == 0 && static_cast<uint64_t>(msg.width) * msg.height > 0)
     throw std::runtime_error("PointCloud2 has point_step 0");
@@ -204,8 +238,9 @@ PointCloud RosCloudToPointCloud(const RosPointCloud2& msg, int* dropped) {
     throw std::runtime_error("PointCloud2 needs fields x, y, z; it has: " + (names.empty() ? "none" : names));
   }
   const auto* intensity = FindField(msg, {"intensity", "i"});
-  const auto* ring = FindField(msg, {"ring"});
+  const auto* ring = FindField(msg, {"ring", "line"});
   CheckCloudSize(msg);
+  const PointTimes times(msg, FindField(msg, {"timestamp"}));
   PointCloud cloud;
   // No points: do not walk 2^32 empty rows (row_step 0 lets any height pass the size check).
   if (msg.width == 0 || msg.height == 0) {
@@ -232,6 +267,7 @@ PointCloud RosCloudToPointCloud(const RosPointCloud2& msg, int* dropped) {
         cloud.intensity.push_back(
             static_cast<float>(ReadField(point + intensity->offset, intensity->datatype, msg.is_bigendian)));
       if (ring) cloud.ring.push_back(RingIndex(ReadField(point + ring->offset, ring->datatype, msg.is_bigendian)));
+      if (times.present()) cloud.time_offset_s.push_back(times.OffsetS(point));
     }
   if (dropped) *dropped = skipped;
   return cloud;

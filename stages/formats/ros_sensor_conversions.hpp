@@ -36,8 +36,10 @@ cv::Mat RosImageToMat(const RosImage& msg, SixteenBitScaler& scaler);
 std::string RosCompressedFormat(const RosCompressedImage& msg, cv::Mat* decoded);
 
 // sensor_msgs/PointCloud2 with fields x, y, z (any numeric type, any offsets, organised or not),
-// optionally intensity (or i) and ring. Points with a non-finite or all-zero position (no return) are
-// left out and counted in *dropped.
+// optionally intensity (or i), ring (or Livox's line) and Livox's timestamp (absolute: in nanoseconds or
+// seconds, whichever puts the first point nearer the header stamp; time_offset_s is the point's time
+// minus the header stamp, none when the stamp is zero). Other fields (Livox's tag) are ignored. Points
+// with a non-finite or all-zero position (no return) are left out and counted in *dropped.
 PointCloud RosCloudToPointCloud(const RosPointCloud2& msg, int* dropped = nullptr);
 
 // sensor_msgs/CameraInfo: plumb_bob (or rational_polynomial with k4..k6 = 0) -> pinhole; equidistant ->

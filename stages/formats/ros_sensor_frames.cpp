@@ -1,6 +1,9 @@
 #include "formats/ros_sensor_frames.hpp"
 
 #include <stdexcept>
+#include <utility>
+
+#include "formats/livox_conversions.hpp"
 
 namespace fusecal {
 
@@ -29,11 +32,24 @@ SensorImage RosSensorFrames::Image(RosCompressedImage msg, int64_t arrival_utime
 }
 
 SensorScan RosSensorFrames::Cloud(const RosPointCloud2& msg, int64_t arrival_utime) {
+  int dropped = 0;
+  PointCloud cloud = RosCloudToPointCloud(msg, &dropped);
+  return Scan(std::move(cloud), dropped, msg.header, arrival_utime);
+}
+
+SensorScan RosSensorFrames::Cloud(const RosLivoxCustomMsg& msg, int64_t arrival_utime) {
+  int dropped = 0;
+  PointCloud cloud = LivoxCustomMsgToPointCloud(msg, &dropped);
+  return Scan(std::move(cloud), dropped, msg.header, arrival_utime);
+}
+
+SensorScan RosSensorFrames::Scan(PointCloud cloud, int dropped, const RosHeader& header, int64_t arrival_utime) {
+  if (cloud.empty()) throw std::runtime_error("no finite point in " + std::to_string(dropped));
   SensorScan scan;
-  scan.cloud = RosCloudToPointCloud(msg, &scan.dropped);
-  if (scan.cloud.empty()) throw std::runtime_error("no finite point in " + std::to_string(scan.dropped));
-  scan.utime = Stamp(msg.header.stamp, arrival_utime);
-  scan.frame_id = msg.header.frame_id;
+  scan.cloud = std::move(cloud);
+  scan.dropped = dropped;
+  scan.utime = Stamp(header.stamp, arrival_utime);
+  scan.frame_id = header.frame_id;
   return scan;
 }
 

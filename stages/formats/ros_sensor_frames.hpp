@@ -1,7 +1,8 @@
 // ROS sensor messages (ros_sensor_messages.hpp) into the frames fusecal's streams carry, one code path
 // for `fusecal import rosbag` (ROS 1 and ROS 2 bags) and the live ROS 2 input: the stamp rule, the image
-// decoding, the check against the camera model, the cloud conversion. Each call throws
-// std::runtime_error saying what is wrong with the message; the caller skips it and counts.
+// decoding, the check against the camera model, the cloud conversion (PointCloud2 or Livox's CustomMsg).
+// Each call throws std::runtime_error saying what is wrong with the message; the caller skips it and
+// counts.
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -42,12 +43,14 @@ class RosSensorFrames {
   SensorImage Image(const RosImage& msg, int64_t arrival_utime);
   SensorImage Image(RosCompressedImage msg, int64_t arrival_utime);
   SensorScan Cloud(const RosPointCloud2& msg, int64_t arrival_utime);
+  SensorScan Cloud(const RosLivoxCustomMsg& msg, int64_t arrival_utime);
 
   int unstamped() const { return unstamped_; }
   int sixteen_bit_shift() const { return scaler_.shift(); }
 
  private:
   void CheckSize(int width, int height) const;
+  SensorScan Scan(PointCloud cloud, int dropped, const RosHeader& header, int64_t arrival_utime);
   int64_t Stamp(const RosTime& stamp, int64_t arrival_utime);
 
   std::optional<CameraParams> camera_;

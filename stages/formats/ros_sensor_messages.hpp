@@ -44,6 +44,26 @@ struct RosPointCloud2 {
   bool is_dense = false;
 };
 
+// livox_ros_driver2/CustomPoint: a point `offset_time` nanoseconds after its message's timebase.
+struct RosLivoxPoint {
+  uint32_t offset_time = 0;
+  float x = 0, y = 0, z = 0;
+  uint8_t reflectivity = 0;
+  uint8_t tag = 0;
+  uint8_t line = 0;  // the laser
+};
+
+// livox_ros_driver2/CustomMsg (livox_ros_driver's has the same fields): one scan of a Livox LiDAR. The
+// driver sets the header stamp to timebase, the first point's time in nanoseconds.
+struct RosLivoxCustomMsg {
+  RosHeader header;
+  uint64_t timebase = 0;
+  uint32_t point_num = 0;  // the number of points, as the driver counted them
+  uint8_t lidar_id = 0;
+  std::array<uint8_t, 3> rsvd{};
+  std::vector<RosLivoxPoint> points;
+};
+
 struct RosImage {
   RosHeader header;
   uint32_t height = 0;

@@ -26,6 +26,13 @@ void CdrWriter::Put(uint64_t value, size_t n) {
 
 void CdrWriter::U8(uint8_t value) { Put(value, 1); }
 void CdrWriter::U32(uint32_t value) { Put(value, 4); }
+void CdrWriter::U64(uint64_t value) { Put(value, 8); }
+
+void CdrWriter::F32(float value) {
+  uint32_t bits;
+  std::memcpy(&bits, &value, sizeof(bits));
+  Put(bits, 4);
+}
 
 void CdrWriter::F64(double value) {
   uint64_t bits;
@@ -108,6 +115,26 @@ std::vector<uint8_t> EncodeCdr(const RosCameraInfo& msg, CdrByteOrder order) {
   out.U32(msg.roi.height);
   out.U32(msg.roi.width);
   out.U8(msg.roi.do_rectify);
+  return out.bytes();
+}
+
+std::vector<uint8_t> EncodeCdr(const RosLivoxCustomMsg& msg, CdrByteOrder order) {
+  CdrWriter out(order);
+  out.Header(msg.header);
+  out.U64(msg.timebase);
+  out.U32(msg.point_num);
+  out.U8(msg.lidar_id);
+  for (const uint8_t reserved : msg.rsvd) out.U8(reserved);
+  out.U32(static_cast<uint32_t>(msg.points.size()));
+  for (const RosLivoxPoint& point : msg.points) {
+    out.U32(point.offset_time);
+    out.F32(point.x);
+    out.F32(point.y);
+    out.F32(point.z);
+    out.U8(point.reflectivity);
+    out.U8(point.tag);
+    out.U8(point.line);
+  }
   return out.bytes();
 }
 

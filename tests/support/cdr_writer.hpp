@@ -20,6 +20,8 @@ class CdrWriter {
   explicit CdrWriter(CdrByteOrder order = CdrByteOrder::kLittle);
   void U8(uint8_t value);
   void U32(uint32_t value);
+  void U64(uint64_t value);
+  void F32(float value);
   void I32(int32_t value) { U32(static_cast<uint32_t>(value)); }
   void F64(double value);
   void String(const std::string& value);           // length with the NUL, bytes, NUL
@@ -38,5 +40,6 @@ std::vector<uint8_t> EncodeCdr(const RosPointCloud2& msg, CdrByteOrder order = C
 std::vector<uint8_t> EncodeCdr(const RosImage& msg, CdrByteOrder order = CdrByteOrder::kLittle);
 std::vector<uint8_t> EncodeCdr(const RosCompressedImage& msg, CdrByteOrder order = CdrByteOrder::kLittle);
 std::vector<uint8_t> EncodeCdr(const RosCameraInfo& msg, CdrByteOrder order = CdrByteOrder::kLittle);
+std::vector<uint8_t> EncodeCdr(const RosLivoxCustomMsg& msg, CdrByteOrder order = CdrByteOrder::kLittle);
 
 }  // namespace fusecal::testing_utils
