@@ -28,13 +28,14 @@ int Report(const std::string& out, const std::function<ImportReport()>& run) {
 }
 
 void AddRosbagImport(CLI::App& import, int* exit_code) {
-  auto* rosbag =
-      import.add_subcommand("rosbag", "ROS 1 or ROS 2 bag: sensor_msgs Image/CompressedImage, PointCloud2, CameraInfo");
+  auto* rosbag = import.add_subcommand(
+      "rosbag", "ROS 1 or ROS 2 bag: sensor_msgs Image/CompressedImage, PointCloud2 (or Livox CustomMsg), CameraInfo");
   static std::string bag_path, bag_out, bag_camera;
   static RosbagImportOptions options;
   rosbag->add_option("BAG", bag_path, "a ROS 1 .bag, or a ROS 2 bag folder, .mcap or .db3")->required();
   rosbag->add_option("--image-topic", options.image_topic, "sensor_msgs/Image or CompressedImage topic");
-  rosbag->add_option("--cloud-topic", options.cloud_topic, "sensor_msgs/PointCloud2 topic");
+  rosbag->add_option("--cloud-topic", options.cloud_topic,
+                     "sensor_msgs/PointCloud2 or livox_ros_driver2/CustomMsg topic");
   rosbag->add_option("--camera", bag_camera, "camera YAML, used instead of the bag's CameraInfo");
   rosbag->add_option("--camera-info-topic", options.camera_info_topic,
                      "CameraInfo topic (default: camera_info next to the image topic)");

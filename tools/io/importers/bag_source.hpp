@@ -17,10 +17,11 @@
 namespace fusecal {
 
 // The sensor messages the import reads. ROS 1 names them "sensor_msgs/Image", ROS 2
-// "sensor_msgs/msg/Image"; both are recognised.
-enum class RosMessageKind { kImage, kCompressedImage, kPointCloud2, kCameraInfo, kOther };
+// "sensor_msgs/msg/Image"; both are recognised. Livox's CustomMsg is recognised from livox_ros_driver2
+// and livox_ros_driver, by name (the bag's message definitions are not read).
+enum class RosMessageKind { kImage, kCompressedImage, kPointCloud2, kCameraInfo, kLivoxCustomMsg, kOther };
 RosMessageKind KindOfType(const std::string& type);
-// "sensor_msgs/Image" for ROS 1, "sensor_msgs/msg/Image" for ROS 2.
+// "sensor_msgs/Image" for ROS 1, "sensor_msgs/msg/Image" for ROS 2 (livox_ros_driver2's for CustomMsg).
 std::string TypeName(RosMessageKind kind, int ros_version);
 
 struct BagTopic {
@@ -41,6 +42,7 @@ class BagMessage {
   virtual RosCompressedImage CompressedImage() const = 0;
   virtual RosPointCloud2 PointCloud2() const = 0;
   virtual RosCameraInfo CameraInfo() const = 0;
+  virtual RosLivoxCustomMsg LivoxCustomMsg() const = 0;
 };
 
 class BagSource {

@@ -160,9 +160,11 @@ class MessageConverter {
   }
 
   void Cloud(const BagMessage& m) {
-    if (KindOfType(m.type()) != RosMessageKind::kPointCloud2)
-      throw std::runtime_error("a " + m.type() + " message, not a PointCloud2");
-    SensorScan scan = frames_.Cloud(m.PointCloud2(), m.arrival_utime());
+    const RosMessageKind kind = KindOfType(m.type());
+    if (kind != RosMessageKind::kPointCloud2 && kind != RosMessageKind::kLivoxCustomMsg)
+      throw std::runtime_error("a " + m.type() + " message, not a PointCloud2 or Livox CustomMsg");
+    SensorScan scan = kind == RosMessageKind::kPointCloud2 ? frames_.Cloud(m.PointCloud2(), m.arrival_utime())
+                                                           : frames_.Cloud(m.LivoxCustomMsg(), m.arrival_utime());
     const int64_t utime = scan.utime;
     ordered_.Push(utime, [this, scan = std::move(scan)] { writer_.WriteScan(scan.utime, scan.cloud); });
   }
@@ -217,7 +219,8 @@ ImportReport ImportRosbag(const std::string& bag_path, const std::string& out_lo
   const TopicTypes topics = ListTopics(*bag);
   RequireTopic(*bag, topics, options.image_topic, {RosMessageKind::kImage, RosMessageKind::kCompressedImage}, "image",
                bag_path);
-  RequireTopic(*bag, topics, options.cloud_topic, {RosMessageKind::kPointCloud2}, "cloud", bag_path);
+  RequireTopic(*bag, topics, options.cloud_topic, {RosMessageKind::kPointCloud2, RosMessageKind::kLivoxCustomMsg},
+               "cloud", bag_path);
   const CameraParams camera = ReadCameraModel(*bag, topics, options, bag_path);
 
   ImportWriter writer(out_log);

@@ -1,9 +1,9 @@
 // ROS bags into LCM logs (`fusecal import rosbag`): ROS 1 bags (.bag, through Debian's rosbag_storage)
 // and ROS 2 bags (a folder with metadata.yaml, an .mcap or a .db3 file; CDR messages), one code path for
 // both over a BagSource (bag_source.hpp). Images (sensor_msgs/Image or CompressedImage) become
-// CAMERA_IMAGE, clouds (sensor_msgs/PointCloud2) LIDAR_SCAN, each at its header stamp; the camera model
-// comes from --camera or the bag's CameraInfo. The log holds no stations: the stationarity stage finds
-// the stops, as it does live.
+// CAMERA_IMAGE, clouds (sensor_msgs/PointCloud2 or Livox's CustomMsg) LIDAR_SCAN, each at its header
+// stamp; the camera model comes from --camera or the bag's CameraInfo. The log holds no stations: the
+// stationarity stage finds the stops, as it does live.
 #pragma once
 
 #include <optional>

@@ -5,6 +5,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "formats/ros1_serialized.hpp"
 #include "formats/ros_sensor_conversions.hpp"
 #include "importers/bag_source.hpp"
 #include "importers/ros_messages.hpp"
@@ -28,6 +29,13 @@ class Ros1Message : public BagMessage {
   }
   RosCameraInfo CameraInfo() const override {
     return FromRos1(std::move(*Instantiate<sensor_msgs::CameraInfo>("CameraInfo")));
+  }
+  // No C++ type of Livox's: the serialized bytes, decoded by name.
+  RosLivoxCustomMsg LivoxCustomMsg() const override {
+    std::vector<uint8_t> bytes(m_.size());
+    ros::serialization::OStream stream(bytes.data(), static_cast<uint32_t>(bytes.size()));
+    m_.write(stream);
+    return DecodeRos1LivoxCustomMsg(bytes.data(), bytes.size());
   }
 
  private:

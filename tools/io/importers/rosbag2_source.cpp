@@ -20,6 +20,7 @@ class Ros2Message : public BagMessage {
   RosCompressedImage CompressedImage() const override { return DecodeCdrCompressedImage(Data(), m_.size); }
   RosPointCloud2 PointCloud2() const override { return DecodeCdrPointCloud2(Data(), m_.size); }
   RosCameraInfo CameraInfo() const override { return DecodeCdrCameraInfo(Data(), m_.size); }
+  RosLivoxCustomMsg LivoxCustomMsg() const override { return DecodeCdrLivoxCustomMsg(Data(), m_.size); }
 
  private:
   const uint8_t* Data() const {
