@@ -52,7 +52,7 @@ class SimBadScenario : public testing::Test {
 
 TEST(SimScenario, ShippedScenariosLoad) {
   for (const char* name : {"indoor-equirect-hdl64.yaml", "indoor-pinhole-hdl64.yaml", "outdoor-equirect-hdl64.yaml",
-                           "tiny-equirect.yaml"}) {
+                           "tiny-equirect.yaml", "handheld-avia-pinhole.yaml", "handheld-mid360-pinhole.yaml"}) {
     SCOPED_TRACE(name);
     Scenario s;
     ASSERT_NO_THROW(s = LoadScenario(test::ScenarioPath(name)));
@@ -98,6 +98,23 @@ TEST_F(SimBadScenario, UnknownNestedKey) {
 
 TEST_F(SimBadScenario, NegativeWidth) {
   ExpectErrorNaming(Replace(base_, "  width: 512\n", "  width: -512\n"), "camera.width");
+}
+
+TEST_F(SimBadScenario, SizesBeyondMemoryNameTheirKey) {
+  ExpectErrorNaming(Replace(base_, "  width: 512\n", "  width: 2000000000\n"), "camera.width");
+  const std::string dense = Replace(base_, "  beams: 16\n", "  beams: 4096\n");
+  ExpectErrorNaming(Replace(dense, "  azimuth_resolution_deg: 1.0\n", "  azimuth_resolution_deg: 0.01\n"),
+                    "lidar.azimuth_resolution_deg");
+  ExpectErrorNaming(Replace(base_, "  still_s: 1.5", "  still_s: 1.0e9"), "motions");
+}
+
+TEST_F(SimBadScenario, NonRepetitiveModels) {
+  const std::string rosette = Replace(base_, "  model: multibeam\n", "  model: rosette\n");
+  ExpectErrorNaming(Replace(rosette, "  beams: 16\n", "  beams: 6\n  point_rate_hz: 1.0e12\n"), "lidar.point_rate_hz");
+  ExpectErrorNaming(Replace(rosette, "  beams: 16\n", "  field_of_view_deg: [70, 200]\n"), "lidar.field_of_view_deg");
+  const Scenario s = LoadText(Replace(rosette, "  beams: 16\n", ""));  // beams: the model's 6 lines
+  EXPECT_EQ(s.lidar.beams, 6);
+  EXPECT_FALSE(s.lidar.Repetitive());
 }
 
 TEST_F(SimBadScenario, UnknownCameraModel) {

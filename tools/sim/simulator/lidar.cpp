@@ -7,6 +7,7 @@
 
 #include "simulator/parallel.hpp"
 #include "simulator/random.hpp"
+#include "simulator/scan_pattern.hpp"
 
 namespace fusecal::sim {
 
@@ -25,21 +26,31 @@ float RotationAngle(const Eigen::Matrix3f& A, const Eigen::Matrix3f& B) {
 
 LidarSensor::LidarSensor(const LidarParams& params) : params_(params), columns_(params.Columns()) {
   if (params.ElevationsRad().empty() || !(params.rate_hz > 0) || !(params.azimuth_resolution_deg > 0) ||
-      !(params.max_range_m > params.min_range_m))
+      !(params.max_range_m > params.min_range_m) || !(params.point_rate_hz > 0))
     throw std::invalid_argument("LidarParams: need beams, a positive rate and resolution, max > min range");
+  if (!params_.Repetitive()) return;
   // Column c looks at azimuth pi - (c + 0.5) * step: from behind the sensor, clockwise seen from above.
   std::vector<double> azimuth(columns_);
   const double step = 2.0 * M_PI / columns_;
   for (int c = 0; c < columns_; ++c) azimuth[c] = M_PI - (c + 0.5) * step;
-  grid_ = RayGrid::Spherical(params_.ElevationsRad(), azimuth, Eigen::Matrix3f::Identity(), kTileBeams, kTileColumns);
+  grid_ = std::make_shared<RayGrid>(
+      RayGrid::Spherical(params_.ElevationsRad(), azimuth, Eigen::Matrix3f::Identity(), kTileBeams, kTileColumns));
 }
 
-CleanScan LidarSensor::CastClean(const Scene& scene, const Isometry3& T_world_lidar, int threads) const {
-  return Cast(scene, {T_world_lidar.linear().cast<float>()}, {T_world_lidar.translation().cast<float>()}, threads);
+std::shared_ptr<const RayGrid> LidarSensor::Rays(int frame) const {
+  if (params_.Repetitive()) return grid_;
+  // Consecutive instants of one line lie close together: tiles of one line and kTileColumns instants.
+  return std::make_shared<RayGrid>(
+      RayGrid::Table(params_.beams, columns_, PatternDirections(params_, frame), 1, kTileColumns));
+}
+
+CleanScan LidarSensor::CastClean(const Scene& scene, const Isometry3& T_world_lidar, int threads, int frame) const {
+  return Cast(scene, Rays(frame), {T_world_lidar.linear().cast<float>()}, {T_world_lidar.translation().cast<float>()},
+              threads);
 }
 
 CleanScan LidarSensor::CastClean(const Scene& scene, const std::function<Isometry3(double)>& T_world_lidar_at,
-                                 int threads) const {
+                                 int threads, int frame) const {
   std::vector<Eigen::Matrix3f> R(columns_);
   std::vector<Eigen::Vector3f> t(columns_);
   for (int c = 0; c < columns_; ++c) {
@@ -47,13 +58,16 @@ CleanScan LidarSensor::CastClean(const Scene& scene, const std::function<Isometr
     R[c] = T.linear().cast<float>();
     t[c] = T.translation().cast<float>();
   }
-  return Cast(scene, R, t, threads);
+  return Cast(scene, Rays(frame), R, t, threads);
 }
 
-CleanScan LidarSensor::Cast(const Scene& scene, const std::vector<Eigen::Matrix3f>& R,
-                            const std::vector<Eigen::Vector3f>& t, int threads) const {
+CleanScan LidarSensor::Cast(const Scene& scene, std::shared_ptr<const RayGrid> rays,
+                            const std::vector<Eigen::Matrix3f>& R, const std::vector<Eigen::Vector3f>& t,
+                            int threads) const {
+  const RayGrid& grid = *rays;
   CleanScan out;
-  out.beams = grid_.rows();
+  out.rays = std::move(rays);
+  out.beams = grid.rows();
   out.columns = columns_;
   out.range.assign(static_cast<size_t>(out.beams) * columns_, kInf);
   out.intensity.assign(out.range.size(), 0.0f);
@@ -61,7 +75,7 @@ CleanScan LidarSensor::Cast(const Scene& scene, const std::vector<Eigen::Matrix3
   const float divergence = static_cast<float>(params_.beam_divergence_mrad * 1e-3);
   const float min_range = static_cast<float>(params_.min_range_m);
   const float max_range = static_cast<float>(params_.max_range_m);
-  const auto& tiles = grid_.tiles();
+  const auto& tiles = grid.tiles();
   const int n = static_cast<int>(tiles.size());
   std::vector<std::vector<Candidate>> scratch(ResolveThreads(threads));
   ParallelFor(n, threads, 8, [&](int worker, int i) {
@@ -89,7 +103,7 @@ CleanScan LidarSensor::Cast(const Scene& scene, const std::vector<Eigen::Matrix3
       const Eigen::Matrix3f& Rc = R[single ? 0 : c];
       const Eigen::Vector3f& tc = t[single ? 0 : c];
       for (int b = tile.row0; b < tile.row1; ++b) {
-        const Eigen::Vector3f d = Rc * grid_.Direction(b, c);
+        const Eigen::Vector3f d = Rc * grid.Direction(b, c);
         Hit hit;
         if (!scene.Intersect(tc, d, candidates.data(), static_cast<int>(candidates.size()), max_range, &hit, &hint))
           continue;
@@ -134,7 +148,7 @@ SimulatedScan LidarSensor::ApplyNoise(const CleanScan& clean, uint64_t seed, int
     for (int b = 0; b < clean.beams; ++b) {
       const size_t k = static_cast<size_t>(c) * clean.beams + b;
       if (!std::isfinite(range[k])) continue;
-      const Eigen::Vector3f p = grid_.Direction(b, c) * range[k];
+      const Eigen::Vector3f p = clean.rays->Direction(b, c) * range[k];
       scan.points.push_back({p.x(), p.y(), p.z(), intensity[k], time_us, static_cast<uint16_t>(b)});
     }
   }

@@ -24,13 +24,21 @@ std::vector<double> LidarParams::ElevationsRad() const {
   return out;
 }
 
-int LidarParams::Columns() const { return std::max(1, static_cast<int>(std::lround(360.0 / azimuth_resolution_deg))); }
+int LidarParams::Columns() const {
+  if (!Repetitive()) return std::max(1, static_cast<int>(std::lround(point_rate_hz / (rate_hz * beams))));
+  return std::max(1, static_cast<int>(std::lround(360.0 / azimuth_resolution_deg)));
+}
 
 std::string DefaultScenarioDir() { return FUSECAL_SCENARIO_DIR; }
 
 namespace {
 
 using Vec = std::vector<double>;
+
+// A frame's rays live in memory at once (12 bytes each, plus a range and an intensity per ray).
+constexpr double kMaxRaysPerFrame = 1 << 27;
+// The frame times of a whole session are listed in memory.
+constexpr double kMaxFramesPerSession = 2e7;
 
 Check<Vec> SizeIs(size_t n) {
   return [n](const Vec& v) {
@@ -78,6 +86,13 @@ void ReadCamera(ConfigReader r, CameraSettings* cam) {
   r.Get("moving_supersample", &cam->moving_supersample, InRange(1, 8));
   r.Get("moving_scale", &cam->moving_scale, InRange(0.1, 1.0));
   r.Get("color", &cam->color);
+  const double rays = static_cast<double>(p.width) * p.height * cam->supersample * cam->supersample;
+  if (rays > kMaxRaysPerFrame)
+    r.Fail(p.width >= p.height ? "width" : "height",
+           std::to_string(p.width) + " x " + std::to_string(p.height) + " pixels x " +
+               std::to_string(cam->supersample * cam->supersample) + " rays per pixel (supersample^2) is " +
+               std::to_string(static_cast<int64_t>(rays)) + " rays per image: at most " +
+               std::to_string(static_cast<int64_t>(kMaxRaysPerFrame)) + " fit in memory");
   const std::string problem = p.Validate();  // "field: what"
   if (!problem.empty()) {
     const auto colon = problem.find(':');
@@ -86,9 +101,10 @@ void ReadCamera(ConfigReader r, CameraSettings* cam) {
   r.Finish();
 }
 
-void ReadLidar(ConfigReader r, LidarParams* l) {
-  r.Require("model", &l->model, OneOf({"multibeam", "panoramic"}));
-  if (l->model == "panoramic") {  // model-dependent defaults: a terrestrial scanner
+// Model-dependent defaults: a terrestrial scanner (panoramic), Livox Avia-like (rosette: 6 lines,
+// 240k points/s, 70.4 x 77.2 deg) and Mid-360-like (petal: 4 lines, 200k points/s, -7 to 52 deg).
+void SetModelDefaults(LidarParams* l) {
+  if (l->model == "panoramic") {
     l->beams = 600;
     l->elevation_max_deg = 90.0;
     l->elevation_min_deg = -60.0;
@@ -96,8 +112,38 @@ void ReadLidar(ConfigReader r, LidarParams* l) {
     l->min_range_m = 0.5;
     l->max_range_m = 150.0;
     l->beam_divergence_mrad = 0.5;
+  } else if (l->model == "rosette") {
+    l->beams = 6;
+    l->point_rate_hz = 240000.0;
+    l->min_range_m = 1.0;
+    l->max_range_m = 190.0;
+    l->beam_divergence_mrad = 3.0;
+  } else if (l->model == "petal") {
+    l->beams = 4;
+    l->point_rate_hz = 200000.0;
+    l->elevation_max_deg = 52.0;
+    l->elevation_min_deg = -7.0;
+    l->min_range_m = 0.1;
+    l->max_range_m = 70.0;
+    l->beam_divergence_mrad = 3.0;
   }
-  r.Require("beams", &l->beams, InRange(1, 4096));
+}
+
+void ReadPattern(ConfigReader& r, LidarParams* l) {
+  r.Get("point_rate_hz", &l->point_rate_hz, InRange(1000.0, 1e8));
+  r.Get("field_of_view_deg", &l->field_of_view_deg, Check<Vec>([](const Vec& v) {
+          std::string e = SizeIs(2)(v);
+          if (e.empty() && !(v[0] > 0 && v[0] <= 180.0 && v[1] > 0 && v[1] <= 180.0))
+            e = "must be [horizontal, vertical] within (0, 180]";
+          return e;
+        }));
+}
+
+void ReadLidar(ConfigReader r, LidarParams* l) {
+  r.Require("model", &l->model, OneOf({"multibeam", "panoramic", "rosette", "petal"}));
+  SetModelDefaults(l);
+  r.Get("beams", &l->beams, InRange(1, 4096), l->Repetitive());
+  if (!l->Repetitive()) ReadPattern(r, l);
   Vec elevation{l->elevation_max_deg, l->elevation_min_deg};
   r.Get("elevation_deg", &elevation, Check<Vec>([](const Vec& v) {
           std::string e = SizeIs(2)(v);
@@ -124,6 +170,11 @@ void ReadLidar(ConfigReader r, LidarParams* l) {
   r.Get("phase_s", &l->phase_s, NonNegative<double>());
   r.Get("beam_divergence_mrad", &l->beam_divergence_mrad, NonNegative<double>());
   r.Get("motion_distortion", &l->motion_distortion);
+  const double rays = static_cast<double>(l->beams) * l->Columns();
+  if (rays > kMaxRaysPerFrame)
+    r.Fail(l->Repetitive() ? "azimuth_resolution_deg" : "point_rate_hz",
+           "gives " + std::to_string(l->beams) + " x " + std::to_string(l->Columns()) + " rays per scan: at most " +
+               std::to_string(static_cast<int64_t>(kMaxRaysPerFrame)) + " fit in memory");
   r.Finish();
 }
 
@@ -205,6 +256,17 @@ void ReadRig(ConfigReader r, Scenario* s) {
   r.Finish();
 }
 
+// The longest session the motions can make, and its frames, must fit in memory.
+void CheckSessionLength(ConfigReader& r, const Scenario& s) {
+  const MotionParams& m = s.motions;
+  const double seconds = (m.horizontal + m.vertical + 1.0) * m.still_s + (m.horizontal + m.vertical) * m.move_max_s;
+  const double frames = seconds * (s.camera.rate_hz + s.lidar.rate_hz);
+  if (frames > kMaxFramesPerSession)
+    r.Fail("motions", "make a session of up to " + std::to_string(static_cast<int64_t>(seconds)) + " s with " +
+                          std::to_string(static_cast<int64_t>(frames)) + " camera and LiDAR frames: at most " +
+                          std::to_string(static_cast<int64_t>(kMaxFramesPerSession)) + " fit in memory");
+}
+
 Scenario Read(ConfigReader r, const std::string& name) {
   Scenario s;
   s.name = name;
@@ -221,6 +283,7 @@ Scenario Read(ConfigReader r, const std::string& name) {
   ReadMotions(r.Child("motions"), &s.motions);
   ReadNoise(r.Child("noise"), &s.noise, &s.lidar);
   ReadExtrinsicChanges(r, s.motions, &s.extrinsic_changes);
+  CheckSessionLength(r, s);
   r.Finish();
   return s;
 }

@@ -21,16 +21,22 @@ struct RenderOptions {
   int threads = 0;           // 0: one per hardware thread; results never depend on it
 };
 
-// A spinning LiDAR. Frame: x forward, y left, z up. Rows ("rings") are ordered from the top beam (ring 0)
-// down; columns from azimuth +180 deg clockwise (seen from above), as a Velodyne spins; the sweep of a
-// scan starts at its utime and column c fires at c / columns / rate_hz seconds after it.
+// A LiDAR. Frame: x forward, y left, z up. Spinning models (multibeam, panoramic): rows ("rings") are
+// ordered from the top beam (ring 0) down; columns from azimuth +180 deg clockwise (seen from above), as a
+// Velodyne spins. Non-repetitive models (rosette, petal; simulator/scan_pattern.hpp): rows are the laser
+// lines, columns the firing instants, and the directions differ from frame to frame. The sweep of a scan
+// starts at its utime and column c fires at c / columns / rate_hz seconds after it.
 struct LidarParams {
-  std::string model = "multibeam";       // "multibeam" (HDL-64E-like) or "panoramic" (dense sphere)
-  int beams = 64;                        // rows: beams (multibeam) or elevation steps (panoramic)
-  double elevation_max_deg = 2.0;        // top beam
-  double elevation_min_deg = -24.8;      // bottom beam; beams are spaced evenly in between
-  std::vector<double> elevations_deg;    // optional explicit list (one per beam), overrides the above
-  double azimuth_resolution_deg = 0.18;  // -> columns = round(360 / resolution)
+  // "multibeam" (HDL-64E-like), "panoramic" (dense sphere), "rosette" (Avia-like: forward field of view,
+  // Risley prisms) or "petal" (Mid-360-like: 360 deg azimuth, elevation_deg, swinging lines).
+  std::string model = "multibeam";
+  int beams = 64;                                     // rows: beams, elevation steps (panoramic) or laser lines
+  double point_rate_hz = 240000.0;                    // rosette, petal: points per second over all lines
+  std::vector<double> field_of_view_deg{70.4, 77.2};  // rosette: horizontal, vertical (an ellipse)
+  double elevation_max_deg = 2.0;                     // top beam
+  double elevation_min_deg = -24.8;                   // bottom beam; beams are spaced evenly in between
+  std::vector<double> elevations_deg;                 // optional explicit list (one per beam), overrides the above
+  double azimuth_resolution_deg = 0.18;               // -> columns = round(360 / resolution)
   double min_range_m = 0.9;
   double max_range_m = 120.0;
   double rate_hz = 10.0;
@@ -44,6 +50,7 @@ struct LidarParams {
   // Elevation of every beam, radians, top first.
   std::vector<double> ElevationsRad() const;
   int Columns() const;
+  bool Repetitive() const { return model == "multibeam" || model == "panoramic"; }
 };
 
 struct CameraSettings {

@@ -134,17 +134,17 @@ LidarFrame Simulation::RenderLidarFrame(int index) {
   const bool distort = scenario_.lidar.motion_distortion;
   f.station_id = trajectory_.StillStation(t, distort ? t + lidar_.SweepDuration() : t);
   const uint64_t seed = MixSeed(MixSeed(scenario_.seed, kLidarStream), static_cast<uint64_t>(index));
-  if (f.station_id >= 0) {
+  if (f.station_id >= 0 && lidar_.params().Repetitive()) {
     if (cached_scan_station_ != f.station_id) {
       cached_scan_ = lidar_.CastClean(scene_, f.T_world_lidar, threads_);
       cached_scan_station_ = f.station_id;
     }
     f.scan = lidar_.ApplyNoise(cached_scan_, seed, threads_);
-  } else if (distort) {
+  } else if (distort && f.station_id < 0) {
     const auto pose_at = [this, t](double offset) { return trajectory_.T_world_lidar(t + offset); };
-    f.scan = lidar_.ApplyNoise(lidar_.CastClean(scene_, pose_at, threads_), seed, threads_);
+    f.scan = lidar_.ApplyNoise(lidar_.CastClean(scene_, pose_at, threads_, index), seed, threads_);
   } else {
-    f.scan = lidar_.ApplyNoise(lidar_.CastClean(scene_, f.T_world_lidar, threads_), seed, threads_);
+    f.scan = lidar_.ApplyNoise(lidar_.CastClean(scene_, f.T_world_lidar, threads_, index), seed, threads_);
   }
   return f;
 }

@@ -9,7 +9,7 @@
 // station are rendered once (images with camera.supersample^2 rays per pixel) and each frame there only
 // draws its own exposure gain and noise; frames taken while moving are rendered from scratch (images
 // at camera.moving_scale of the resolution with camera.moving_supersample, resized back up). A LiDAR
-// scan counts as still when its whole sweep is.
+// scan counts as still when its whole sweep is. Non-repetitive LiDARs cast every frame's own rays.
 #pragma once
 
 #include <cstdint>
