@@ -27,18 +27,38 @@ float FastAtan2(float y, float x) {
 }
 }  // namespace
 
-RangeImage BuildRangeImage(const PointCloud& cloud, const LidarChangeSettings& settings) {
+bool RingsAreBeams(const PointCloud& cloud, const LidarChangeSettings& settings) {
+  const size_t n = cloud.size();
+  if (cloud.ring.size() != n || n == 0) return false;
+  struct Moments {
+    double n = 0, sum = 0, sum_sq = 0;
+  };
+  std::vector<Moments> rings(static_cast<size_t>(std::max(settings.max_rings, 0)));
+  for (size_t i = 0; i < n; ++i) {
+    const int16_t ring = cloud.ring[i];
+    if (ring < 0 || ring >= settings.max_rings) return false;
+    const Eigen::Vector3f& p = cloud.points[i];
+    const float r = p.norm();
+    if (!p.allFinite() || !(r >= settings.min_range_m && r <= settings.max_range_m && r > 0.0f)) continue;
+    const double elevation_deg = std::asin(std::clamp(p.z() / r, -1.0f, 1.0f)) * kRadToDeg;
+    Moments& m = rings[static_cast<size_t>(ring)];
+    m.n += 1;
+    m.sum += elevation_deg;
+    m.sum_sq += elevation_deg * elevation_deg;
+  }
+  for (const Moments& m : rings) {
+    if (m.n < 2) continue;
+    const double mean = m.sum / m.n;
+    if (std::sqrt(std::max(0.0, m.sum_sq / m.n - mean * mean)) > settings.max_ring_elevation_std_deg) return false;
+  }
+  return true;
+}
+
+namespace {
+
+RangeImage BuildRangeImageRows(const PointCloud& cloud, const LidarChangeSettings& settings, bool by_ring) {
   RangeImage img;
   const size_t n = cloud.size();
-  bool by_ring = cloud.ring.size() == n && n > 0;
-  if (by_ring) {
-    for (int16_t r : cloud.ring) {
-      if (r < 0 || r >= settings.max_rings) {
-        by_ring = false;
-        break;
-      }
-    }
-  }
   img.by_ring = by_ring;
   img.cols = std::max(1, static_cast<int>(std::lround(360.0 / settings.azimuth_bin_deg)));
   img.rows =
@@ -69,11 +89,62 @@ RangeImage BuildRangeImage(const PointCloud& cloud, const LidarChangeSettings& s
   return img;
 }
 
+}  // namespace
+
+RangeImage BuildRangeImage(const PointCloud& cloud, const LidarChangeSettings& settings) {
+  return BuildRangeImageRows(cloud, settings, RingsAreBeams(cloud, settings));
+}
+
+namespace {
+
+float Quantile(std::vector<float>* values, double q) {
+  const size_t k = std::min(values->size() - 1, static_cast<size_t>(q * (values->size() - 1) + 0.5));
+  std::nth_element(values->begin(), values->begin() + static_cast<std::ptrdiff_t>(k), values->end());
+  return (*values)[k];
+}
+
+// Irregular points: |median signed range difference| of each patch with patch_min_cells cells in common.
+std::vector<float> PatchDifferences(const RangeImage& a, const RangeImage& b, const LidarChangeSettings& settings,
+                                    int* common_cells) {
+  const int patch_cols = std::max(1, static_cast<int>(std::lround(settings.patch_deg / settings.azimuth_bin_deg)));
+  const int patch_rows = std::max(1, static_cast<int>(std::lround(settings.patch_deg / settings.elevation_bin_deg)));
+  std::vector<float> out, patch;
+  *common_cells = 0;
+  for (int r0 = 0; r0 < a.rows; r0 += patch_rows) {
+    for (int c0 = 0; c0 < a.cols; c0 += patch_cols) {
+      patch.clear();
+      for (int r = r0; r < std::min(a.rows, r0 + patch_rows); ++r) {
+        for (int c = c0; c < std::min(a.cols, c0 + patch_cols); ++c) {
+          const size_t i = static_cast<size_t>(r) * a.cols + c;
+          if (std::isfinite(a.range[i]) && std::isfinite(b.range[i])) patch.push_back(b.range[i] - a.range[i]);
+        }
+      }
+      *common_cells += static_cast<int>(patch.size());
+      if (static_cast<int>(patch.size()) >= settings.patch_min_cells) out.push_back(std::fabs(Quantile(&patch, 0.5)));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 LidarChange CompareRangeImages(const RangeImage& a, const RangeImage& b, const LidarChangeSettings& settings) {
   LidarChange out;
   if (a.rows != b.rows || a.cols != b.cols || a.by_ring != b.by_ring) {
     out.failure_reason = {LidarChangeFailure::kLayoutsDiffer,
                           "range image layouts differ (ring field present in one scan only?)"};
+    return out;
+  }
+  if (!a.by_ring) {
+    std::vector<float> patches = PatchDifferences(a, b, settings, &out.common_cells);
+    if (out.common_cells < settings.min_valid_cells || patches.size() < static_cast<size_t>(settings.min_patches)) {
+      out.failure_reason = {LidarChangeFailure::kTooFewCommonCells, "too few cells in common (" +
+                                                                        std::to_string(out.common_cells) + " in " +
+                                                                        std::to_string(patches.size()) + " patches)"};
+      return out;
+    }
+    out.change_m = Quantile(&patches, settings.change_quantile);
+    out.failure_reason = {};
     return out;
   }
   std::vector<float> diff;
@@ -88,9 +159,7 @@ LidarChange CompareRangeImages(const RangeImage& a, const RangeImage& b, const L
                           "too few cells in common (" + std::to_string(out.common_cells) + ")"};
     return out;
   }
-  const size_t k = std::min(diff.size() - 1, static_cast<size_t>(settings.change_quantile * (diff.size() - 1) + 0.5));
-  std::nth_element(diff.begin(), diff.begin() + k, diff.end());
-  out.change_m = diff[k];
+  out.change_m = Quantile(&diff, settings.change_quantile);
   out.failure_reason = {};
   return out;
 }

@@ -36,6 +36,11 @@ std::string LidarChangeSettings::Validate() const {
   if (!Positive(max_range_m) || max_range_m <= min_range_m) return "max_range_m: must exceed min_range_m";
   if (min_valid_cells < 1) return "min_valid_cells: must be at least 1";
   if (!(change_quantile >= 0 && change_quantile <= 1)) return "change_quantile: must be in [0, 1]";
+  if (!(max_ring_elevation_std_deg > 0)) return "max_ring_elevation_std_deg: must be positive";
+  if (!(patch_deg >= azimuth_bin_deg && patch_deg >= elevation_bin_deg && patch_deg <= 90))
+    return "patch_deg: must be at least a cell and at most 90";
+  if (patch_min_cells < 1) return "patch_min_cells: must be at least 1";
+  if (min_patches < 1) return "min_patches: must be at least 1";
   if (!Positive(still_change_m)) return "still_change_m: must be positive";
   if (!Positive(max_drift_m)) return "max_drift_m: must be positive";
   return {};
@@ -48,6 +53,9 @@ std::string StationaritySettings::Validate() const {
   if (!NonNegative(max_pair_dt_s)) return "max_pair_dt_s: must not be negative";
   if (!NonNegative(pair_tie_s)) return "pair_tie_s: must not be negative";
   if (merge_scans < 1 || merge_scans > 32) return "merge_scans: must be in [1, 32]";
+  if (!(accumulate_s >= 0 && accumulate_s <= 60)) return "accumulate_s: must be in [0, 60]";
+  if (max_station_points < 1000 || max_station_points > 20000000)
+    return "max_station_points: must be in [1000, 20000000]";
   if (!Positive(moved_flow_px)) return "moved_flow_px: must be positive";
   if (!Positive(moved_change_m)) return "moved_change_m: must be positive";
   if (!Positive(max_frame_gap_s)) return "max_frame_gap_s: must be positive";

@@ -49,7 +49,8 @@ struct LidarChangeSettings {
   double azimuth_bin_deg = 1.0;
   double elevation_bin_deg = 0.5;
   int max_rings = 128;
-  double min_range_m = 1.0;  // closer returns (the vehicle, the operator) are ignored
+  double max_ring_elevation_std_deg = 2.0;  // rings whose elevation spreads more are not beams
+  double min_range_m = 1.0;                 // closer returns (the vehicle, the operator) are ignored
   double max_range_m = 200.0;
   // A scan with fewer valid cells is empty (ignored); a comparison with fewer cells valid in both is
   // undecidable (not still).
@@ -57,6 +58,11 @@ struct LidarChangeSettings {
   // The change between two scans is this quantile (0.5: median) of |range difference| over the cells
   // valid in both: robust to cars and people moving around a stopped rig.
   double change_quantile = 0.5;
+  // Irregular points (range_image.hpp): patches of patch_deg square, each with at least patch_min_cells
+  // cells in common, and at least min_patches of them.
+  double patch_deg = 5.0;
+  int patch_min_cells = 8;
+  int min_patches = 10;
 
   // Still: the change between consecutive scans is at most still_change_m AND the change from the first
   // scan of the still run (the anchor) is at most max_drift_m (a slow turn or tilt changes little from
@@ -81,6 +87,12 @@ struct StationaritySettings {
   // Densify a multi-beam LiDAR: merge this many consecutive still scans (ending with the chosen one) into
   // the station cloud. 1: off.
   int merge_scans = 1;
+  // A LiDAR without beams (a non-repetitive one: range_image.hpp's RingsAreBeams is false) covers its field
+  // of view only over time: the station cloud holds every still scan of the last accumulate_s seconds up
+  // to the chosen one (the still run is at least min_still_s long), at most max_station_points points.
+  // 0: merge_scans as for beams.
+  double accumulate_s = 1.0;
+  size_t max_station_points = 1000000;
 
   // A new station only once the rig has moved from the previous one: the image displacement between the
   // two stations' images exceeds moved_flow_px (or tracking is lost), or the LiDAR change between their

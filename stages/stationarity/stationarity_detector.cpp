@@ -347,14 +347,7 @@ DetectedStation StationarityDetector::BuildStation(const BufferedImage& best_ima
   s.still_to = to;
   s.image = best_image.image();  // a private copy (or the full decode) of the chosen frame
 
-  // Scans to merge: the chosen one and the still scans just before it.
-  std::vector<const BufferedScan*> merged;
-  for (auto it = scans_.rbegin(); it != scans_.rend() && static_cast<int>(merged.size()) < settings_.merge_scans;
-       ++it) {
-    if (it->utime > best_scan.utime || it->utime < from) continue;
-    merged.push_back(&*it);
-  }
-  std::reverse(merged.begin(), merged.end());
+  const std::vector<const BufferedScan*> merged = ScansToMerge(best_scan, from);
   MergeScanClouds(merged, best_scan, &s.cloud);
   for (const BufferedScan* m : merged) s.merged_scan_utimes.push_back(m->utime);
 
@@ -369,6 +362,27 @@ DetectedStation StationarityDetector::BuildStation(const BufferedImage& best_ima
     if (change.usable()) s.lidar_change_m = change.change_m;
   }
   return s;
+}
+
+// The chosen scan and the still scans just before it, oldest first: merge_scans of them when the scans
+// have beams; when they do not (a non-repetitive LiDAR, whose coverage fills in over time), those of the
+// last accumulate_s seconds of the still run, up to max_station_points points.
+std::vector<const StationarityDetector::BufferedScan*> StationarityDetector::ScansToMerge(const BufferedScan& best_scan,
+                                                                                          int64_t from) const {
+  const bool accumulate = !best_scan.range->by_ring && settings_.accumulate_s > 0;
+  const int64_t earliest =
+      accumulate ? std::max(from, best_scan.utime - static_cast<int64_t>(settings_.accumulate_s * 1e6)) : from;
+  std::vector<const BufferedScan*> merged;
+  size_t points = 0;
+  for (auto it = scans_.rbegin(); it != scans_.rend(); ++it) {
+    if (it->utime > best_scan.utime || it->utime < earliest) continue;
+    if (!accumulate && static_cast<int>(merged.size()) >= settings_.merge_scans) break;
+    if (accumulate && !merged.empty() && points + it->cloud->size() > settings_.max_station_points) break;
+    merged.push_back(&*it);
+    points += it->cloud->size();
+  }
+  std::reverse(merged.begin(), merged.end());
+  return merged;
 }
 
 // The clouds of `merged` (oldest first) concatenated into *cloud; intensity, ring and time offsets only when

@@ -43,8 +43,8 @@ struct DetectedStation {
   int64_t scan_utime = 0;  // the chosen scan (the newest of the merged ones)
   int64_t still_from = 0;  // still interval known at emission
   int64_t still_to = 0;
-  cv::Mat image;                            // as received (a private copy)
-  PointCloud cloud;                         // as received, or merge_scans still scans concatenated
+  cv::Mat image;     // as received (a private copy)
+  PointCloud cloud;  // as received, or still scans concatenated (merge_scans, or accumulate_s without beams)
   std::vector<int64_t> merged_scan_utimes;  // the scans in `cloud`, oldest first
   // Figures at emission: displacement / change from the first frame of the still run to the chosen one.
   double image_drift_px = 0;
@@ -158,6 +158,7 @@ class StationarityDetector {
                                                                              int64_t tie) const;
   DetectedStation BuildStation(const BufferedImage& best_image, const BufferedScan& best_scan, int64_t from,
                                int64_t to);
+  std::vector<const BufferedScan*> ScansToMerge(const BufferedScan& best_scan, int64_t from) const;
   static void MergeScanClouds(const std::vector<const BufferedScan*>& merged, const BufferedScan& best_scan,
                               PointCloud* cloud);
   void MarkRunHandled(const std::string& outcome);

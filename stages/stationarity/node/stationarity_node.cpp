@@ -19,6 +19,8 @@ StationarityNodeSettings ReadStationarityNodeSettings(ConfigReader r) {
   auto& d = s.detector;
   r.Get("min_still_s", &d.min_still_s);
   r.Get("merge_scans", &d.merge_scans);
+  r.Get("accumulate_s", &d.accumulate_s);
+  r.Get("max_station_points", &d.max_station_points);
   r.Get("max_pair_dt_s", &d.max_pair_dt_s);
   r.Get("still_flow_px", &d.image.still_flow_px);
   r.Get("still_change_m", &d.lidar.still_change_m);
