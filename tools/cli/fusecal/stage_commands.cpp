@@ -2,9 +2,10 @@
 //   fusecal register SCAN_A SCAN_B [--config]          LiDAR motion T_a_b (ICP, no initial guess)
 //   fusecal camera-motion IMG_A IMG_B --camera FILE     scaleless camera motion
 //   fusecal fusion-motion --scan --image-i --image-j --camera --extrinsic   metric camera motion
-//   fusecal stations LOG [--config]                     the stations the detector finds in a recording
+//   fusecal stations LOG [--config] [--trace]           the stations the detector finds in a recording
 // Each prints one JSON line.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 
@@ -125,8 +126,27 @@ void AddFusionMotionCommand(CLI::App& app, int* exit_code) {
   });
 }
 
-// Feeds the log's images and scans to the detector and prints each station as one JSON line.
-int PrintStations(const std::string& log, const std::string& config) {
+// One JSON line of what the detector makes of the frame it was just given (--trace).
+void PrintTrace(const char* sensor, int64_t utime, const StationarityState& st) {
+  const auto number = [](double v) { return std::isfinite(v) ? OrderedJson(v) : OrderedJson(nullptr); };
+  std::cout << OrderedJson{{"frame", sensor},
+                           {"utime", utime},
+                           {"phase", ToString(st.phase)},
+                           {"image_still", st.image_still},
+                           {"lidar_still", st.lidar_still},
+                           {"image_flow_px", number(st.image_flow_px)},
+                           {"image_drift_px", number(st.image_drift_px)},
+                           {"lidar_change_m", number(st.lidar_change_m)},
+                           {"lidar_drift_m", number(st.lidar_drift_m)},
+                           {"lidar_common_cells", st.lidar_common_cells},
+                           {"reason", st.reason}}
+                   .dump()
+            << "\n";
+}
+
+// Feeds the log's images and scans to the detector and prints each station as one JSON line (and, with
+// trace, the detector's state after every frame).
+int PrintStations(const std::string& log, const std::string& config, bool trace) {
   StationarityDetector detector(ConfigOrDefault(config).stationarity.detector);
   auto print = [](const DetectedStation& s) {
     std::cout << OrderedJson{{"id", s.id},
@@ -147,11 +167,13 @@ int PrintStations(const std::string& log, const std::string& config) {
         if (msg.decode(event->data.data(), 0, static_cast<int>(event->data.size())) < 0)
           throw std::runtime_error("corrupt image_t");
         for (const auto& s : detector.AddImage(msg.utime, ImageToMat(msg))) print(s);
+        if (trace) PrintTrace("image", msg.utime, detector.State());
       } else if (event->channel == channels::kLidarScan) {
         point_cloud_t msg{};
         if (msg.decode(event->data.data(), 0, static_cast<int>(event->data.size())) < 0)
           throw std::runtime_error("corrupt point_cloud_t");
         for (const auto& s : detector.AddScan(msg.utime, CloudFromMsg(msg))) print(s);
+        if (trace) PrintTrace("scan", msg.utime, detector.State());
       }
     } catch (const std::exception& e) {
       if (bad++ < 5) std::cerr << "fusecal stations: event " << event->event_number << " skipped: " << e.what() << "\n";
@@ -167,11 +189,15 @@ int PrintStations(const std::string& log, const std::string& config) {
 
 void AddStationsCommand(CLI::App& app, int* exit_code) {
   static std::string stations_log, stations_config;
+  static bool stations_trace = false;
   auto* st = app.add_subcommand("stations", "the stops of a recording that become stations");
   st->add_option("LOG", stations_log, "LCM log with CAMERA_IMAGE and LIDAR_SCAN")->required();
   st->add_option("--config", stations_config, "pipeline config (its stationarity section)");
-  st->callback(
-      [exit_code] { Guard("stations", exit_code, [] { return PrintStations(stations_log, stations_config); }); });
+  st->add_flag("--trace", stations_trace,
+               "also print the detector's state after every frame (image motion, LiDAR change, why not still)");
+  st->callback([exit_code] {
+    Guard("stations", exit_code, [] { return PrintStations(stations_log, stations_config, stations_trace); });
+  });
 }
 
 }  // namespace
