@@ -1,5 +1,7 @@
 #include "formats/ros_sensor_encode.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
@@ -72,6 +74,34 @@ RosPointCloud2 ToRosPointCloud2(const PointCloud& cloud, const RosHeader& header
       const uint16_t ring = static_cast<uint16_t>(cloud.ring[i]);
       std::memcpy(point + 16, &ring, 2);
     }
+  }
+  return msg;
+}
+
+RosLivoxCustomMsg ToRosLivoxCustomMsg(const PointCloud& cloud, const RosHeader& header) {
+  const bool timed = cloud.time_offset_s.size() == cloud.size() && !cloud.empty();
+  const double first_s = timed ? *std::min_element(cloud.time_offset_s.begin(), cloud.time_offset_s.end()) : 0.0;
+  RosLivoxCustomMsg msg;
+  msg.header = header;
+  const int64_t stamp_ns = header.stamp.sec * 1000000000 + header.stamp.nsec;
+  msg.timebase = static_cast<uint64_t>(stamp_ns + std::llround(first_s * 1e9));
+  msg.point_num = static_cast<uint32_t>(cloud.size());
+  msg.points.resize(cloud.size());
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    RosLivoxPoint& point = msg.points[i];
+    point.x = cloud.points[i].x();
+    point.y = cloud.points[i].y();
+    point.z = cloud.points[i].z();
+    if (i < cloud.intensity.size())
+      point.reflectivity = static_cast<uint8_t>(std::clamp(std::lround(cloud.intensity[i]), 0L, 255L));
+    if (i < cloud.ring.size()) {
+      if (cloud.ring[i] < 0 || cloud.ring[i] > 255)
+        throw std::runtime_error("ring " + std::to_string(cloud.ring[i]) + " has no Livox line form (0..255)");
+      point.line = static_cast<uint8_t>(cloud.ring[i]);
+    }
+    const long long offset_ns = timed ? std::llround((cloud.time_offset_s[i] - first_s) * 1e9) : 0;
+    if (offset_ns > 0xFFFFFFFFLL) throw std::runtime_error("a scan longer than 4.29 s has no CustomMsg form");
+    point.offset_time = static_cast<uint32_t>(offset_ns);
   }
   return msg;
 }

@@ -28,6 +28,12 @@ RosCompressedImage ToRosCompressedImage(const std::vector<uint8_t>& bytes, const
 // rings; unorganised (height 1), little-endian, dense.
 RosPointCloud2 ToRosPointCloud2(const PointCloud& cloud, const RosHeader& header);
 
+// As livox_ros_driver2 publishes a scan: timebase the first point's time (the header stamp plus the
+// earliest time offset, the stamp without offsets) and each point's offset_time after it, intensity as
+// reflectivity (rounded, clamped to 0..255), ring as line (0 without rings); point_num the point count.
+// A ring outside 0..255 or a scan longer than 4.29 s (uint32 nanoseconds) has no CustomMsg form.
+RosLivoxCustomMsg ToRosLivoxCustomMsg(const PointCloud& cloud, const RosHeader& header);
+
 // pinhole -> plumb_bob (k1 k2 p1 p2 k3), equidistant -> equidistant (k1..k4); K and P from fx, fy, cx, cy,
 // R the identity. An equirectangular panorama has no CameraInfo form.
 RosCameraInfo ToRosCameraInfo(const CameraParams& camera, const RosHeader& header);

@@ -32,6 +32,8 @@ const dds_topic_descriptor_t* DescriptorOf(Ros2SensorTopic kind) {
       return &sensor_msgs_msg_dds__CompressedImage__desc;
     case Ros2SensorTopic::kCloud:
       return &sensor_msgs_msg_dds__PointCloud2__desc;
+    case Ros2SensorTopic::kLivoxCloud:
+      return &livox_ros_driver2_msg_dds__CustomMsg__desc;
   }
   return nullptr;
 }
@@ -51,7 +53,8 @@ Ros2InputNode::Ros2InputNode(const Ros2InputSettings& settings) : settings_(sett
   discovery_ = std::make_unique<Ros2Discovery>(participant_);
   readers_.push_back(
       {settings_.compressed() ? Ros2SensorTopic::kCompressedImage : Ros2SensorTopic::kImage, settings_.image_topic});
-  readers_.push_back({Ros2SensorTopic::kCloud, settings_.cloud_topic});
+  readers_.push_back(
+      {settings_.livox() ? Ros2SensorTopic::kLivoxCloud : Ros2SensorTopic::kCloud, settings_.cloud_topic});
   if (settings_.camera_file.empty()) readers_.push_back({Ros2SensorTopic::kCameraInfo, settings_.CameraInfoTopic()});
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
@@ -200,9 +203,9 @@ StageStatus Ros2InputNode::Status() const {
   work_.AddTo(&s.counters);
   for (const Reader& r : readers_) {
     const Ros2TopicCounts& c = input_->counts(r.kind);
-    const std::string key = r.kind == Ros2SensorTopic::kCloud        ? "cloud"
-                            : r.kind == Ros2SensorTopic::kCameraInfo ? "camera_info"
-                                                                     : "image";
+    const std::string key = r.kind == Ros2SensorTopic::kCloud || r.kind == Ros2SensorTopic::kLivoxCloud ? "cloud"
+                            : r.kind == Ros2SensorTopic::kCameraInfo                                    ? "camera_info"
+                                                                                                        : "image";
     s.counters[key + "_received"] = static_cast<double>(c.received);
     s.counters[key + "_malformed"] = static_cast<double>(c.malformed);
     s.counters[key + "_lost"] = static_cast<double>(c.lost);

@@ -30,6 +30,8 @@ std::string Ros2InputSettings::Validate() const {
   if (!camera_info_topic.empty())
     if (std::string problem = RosTopicProblem("camera_info_topic", camera_info_topic); !problem.empty()) return problem;
   if (image_topic == cloud_topic) return "image_topic and cloud_topic must differ";
+  if (cloud_type != kPointCloud2Type && cloud_type != kLivoxCustomMsgType)
+    return "cloud_type: '" + cloud_type + "' is not " + kPointCloud2Type + " or " + kLivoxCustomMsgType;
   if (!(topic_timeout_s > 0) || !std::isfinite(topic_timeout_s)) return "topic_timeout_s: must be a number > 0";
   if (!(max_message_mb > 0 && max_message_mb <= 1000)) return "max_message_mb: must be in (0, 1000]";
   if (depth < 1 || depth > 100) return "depth: must be in [1, 100]";
@@ -47,6 +49,7 @@ Ros2InputSettings ReadRos2InputSettings(ConfigReader r) {
   r.Get("domain", &s.domain);
   r.Get("image_topic", &s.image_topic);
   r.Get("cloud_topic", &s.cloud_topic);
+  r.Get("cloud_type", &s.cloud_type);
   r.Get("camera_info_topic", &s.camera_info_topic);
   r.Get("camera_file", &s.camera_file);
   r.Get("topic_timeout_s", &s.topic_timeout_s);

@@ -9,10 +9,14 @@
 
 namespace fusecal {
 
+inline constexpr const char* kPointCloud2Type = "sensor_msgs/msg/PointCloud2";
+inline constexpr const char* kLivoxCustomMsgType = "livox_ros_driver2/msg/CustomMsg";  // Livox's own
+
 struct Ros2InputSettings {
   int domain = 0;                                 // ROS_DOMAIN_ID
   std::string image_topic = "/camera/image_raw";  // sensor_msgs/Image; ".../compressed": CompressedImage
-  std::string cloud_topic = "/lidar/points";      // sensor_msgs/PointCloud2
+  std::string cloud_topic = "/lidar/points";      // of cloud_type
+  std::string cloud_type = kPointCloud2Type;      // kPointCloud2Type or kLivoxCustomMsgType
   std::string camera_info_topic;                  // empty: camera_info beside the image topic or above it
   std::string camera_file;                        // a camera YAML used instead of CameraInfo (empty: none)
   double topic_timeout_s = 15;                    // a topic silent this long from the start is an error
@@ -22,7 +26,8 @@ struct Ros2InputSettings {
 
   // Empty when usable, else what is wrong.
   std::string Validate() const;
-  bool compressed() const;              // the image topic carries CompressedImage
+  bool compressed() const;  // the image topic carries CompressedImage
+  bool livox() const { return cloud_type == kLivoxCustomMsgType; }
   std::string CameraInfoTopic() const;  // camera_info_topic, or the one derived from the image topic
 };
 

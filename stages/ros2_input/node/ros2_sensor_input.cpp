@@ -24,6 +24,8 @@ const char* Ros2TypeOf(Ros2SensorTopic topic) {
       return "sensor_msgs/msg/CompressedImage";
     case Ros2SensorTopic::kCloud:
       return "sensor_msgs/msg/PointCloud2";
+    case Ros2SensorTopic::kLivoxCloud:
+      return "livox_ros_driver2/msg/CustomMsg";
   }
   return "";
 }
@@ -97,6 +99,9 @@ Ros2InputFrame Ros2SensorInput::Convert(Ros2SensorTopic topic, const uint8_t* da
       break;
     case Ros2SensorTopic::kCloud:
       frame.scan = frames_.Cloud(DecodeCdrPointCloud2(data, size), receive_utime);
+      break;
+    case Ros2SensorTopic::kLivoxCloud:
+      frame.scan = frames_.Cloud(DecodeCdrLivoxCustomMsg(data, size), receive_utime);
       break;
   }
   return frame;

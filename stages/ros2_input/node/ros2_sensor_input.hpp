@@ -16,7 +16,8 @@
 
 namespace fusecal {
 
-enum class Ros2SensorTopic { kCameraInfo, kImage, kCompressedImage, kCloud };
+// kCloud is sensor_msgs/msg/PointCloud2, kLivoxCloud livox_ros_driver2/msg/CustomMsg.
+enum class Ros2SensorTopic { kCameraInfo, kImage, kCompressedImage, kCloud, kLivoxCloud };
 const char* Ros2TypeOf(Ros2SensorTopic topic);  // "sensor_msgs/msg/Image", ...
 
 // Messages missing from a periodic stream, judged from its stamps: a step of k periods (k >= 2, the

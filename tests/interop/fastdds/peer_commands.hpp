@@ -13,6 +13,7 @@ struct PlayOptions {
   double speed = 1;  // 0: as fast as possible
   bool best_effort = false;
   bool compressed = false;
+  bool livox = false;  // clouds as livox_ros_driver2/msg/CustomMsg, not PointCloud2
   std::string image_topic = "/camera/image_raw";
   std::string cloud_topic = "/lidar/points";
   std::string camera_info_topic = "/camera/camera_info";
@@ -20,8 +21,9 @@ struct PlayOptions {
   double settle_s = 3;  // after every topic has a reader, before the first message
 };
 
-// Publishes the log's CAMERA_INFO, CAMERA_IMAGE and LIDAR_SCAN as sensor_msgs topics at the recorded
-// pace, once every topic has a matched reader; prints {"published": {topic: n, ...}, "seconds": s}.
+// Publishes the log's CAMERA_INFO, CAMERA_IMAGE and LIDAR_SCAN as sensor_msgs topics (the scans as
+// Livox's CustomMsg with `livox`) at the recorded pace, once every topic has a matched reader; prints {"published":
+// {topic: n, ...}, "seconds": s}.
 int Play(const PlayOptions& options);
 
 // Prints each transform a late-joining reader of rt/tf_static receives, one JSON line each, until

@@ -31,14 +31,17 @@ struct Stream {
 
 class Player {
  public:
-  Player(FastDdsDomain& domain, const PlayOptions& options) : compressed_(options.compressed) {
+  Player(FastDdsDomain& domain, const PlayOptions& options) : compressed_(options.compressed), livox_(options.livox) {
     const dds::DataWriterQos qos = SensorWriterQos(!options.best_effort);
     info_ = Make<ros_sensor::CameraInfo_PubSubType>(domain, options.camera_info_topic, qos);
     if (compressed_)
       image_ = Make<ros_sensor::CompressedImage_PubSubType>(domain, options.image_topic + "/compressed", qos);
     else
       image_ = Make<ros_sensor::Image_PubSubType>(domain, options.image_topic, qos);
-    cloud_ = Make<ros_sensor::PointCloud2_PubSubType>(domain, options.cloud_topic, qos);
+    if (livox_)
+      cloud_ = Make<livox_ros_driver2::msg::dds_::CustomMsg_PubSubType>(domain, options.cloud_topic, qos);
+    else
+      cloud_ = Make<ros_sensor::PointCloud2_PubSubType>(domain, options.cloud_topic, qos);
   }
 
   // True once every writer has a matched reader; else false after `seconds`, with the topics that have
@@ -74,9 +77,7 @@ class Player {
       SendImage(msg);
     } else if (event.channel == channels::kLidarScan) {
       point_cloud_t msg{};
-      if (msg.decode(event.data.data(), 0, size) < 0) return;
-      auto out = ToFastDds(ToRosPointCloud2(CloudFromMsg(msg), RosHeader{UtimeToRosStamp(msg.utime), "lidar"}));
-      Write(cloud_, &out);
+      if (msg.decode(event.data.data(), 0, size) >= 0) SendCloud(msg);
     }
   }
 
@@ -107,6 +108,17 @@ class Player {
     return Stream{topic, domain.Writer(domain.Topic<PubSubType>(topic), qos), 0};
   }
 
+  void SendCloud(const point_cloud_t& msg) {
+    const RosHeader header{UtimeToRosStamp(msg.utime), "lidar"};
+    if (livox_) {
+      auto out = ToFastDds(ToRosLivoxCustomMsg(CloudFromMsg(msg), header));
+      Write(cloud_, &out);
+    } else {
+      auto out = ToFastDds(ToRosPointCloud2(CloudFromMsg(msg), header));
+      Write(cloud_, &out);
+    }
+  }
+
   void SendImage(const image_t& msg) {
     const RosHeader header{UtimeToRosStamp(msg.utime), "camera"};
     if (!compressed_) {
@@ -130,7 +142,7 @@ class Player {
     ++s.sent;
   }
 
-  bool compressed_;
+  bool compressed_, livox_;
   std::optional<CameraParams> camera_;  // from the log's CAMERA_INFO
   Stream info_, image_, cloud_;
 };

@@ -76,4 +76,26 @@ ros_sensor::CameraInfo_ ToFastDds(RosCameraInfo&& in) {
   return out;
 }
 
+livox_ros_driver2::msg::dds_::CustomMsg_ ToFastDds(RosLivoxCustomMsg&& in) {
+  livox_ros_driver2::msg::dds_::CustomMsg_ out;
+  out.header_(ToFastDds(std::move(in.header)));
+  out.timebase_(in.timebase);
+  out.point_num_(in.point_num);
+  out.lidar_id_(in.lidar_id);
+  out.rsvd_(in.rsvd);
+  out.points_().reserve(in.points.size());
+  for (const RosLivoxPoint& p : in.points) {
+    livox_ros_driver2::msg::dds_::CustomPoint_ point;
+    point.offset_time_(p.offset_time);
+    point.x_(p.x);
+    point.y_(p.y);
+    point.z_(p.z);
+    point.reflectivity_(p.reflectivity);
+    point.tag_(p.tag);
+    point.line_(p.line);
+    out.points_().push_back(point);
+  }
+  return out;
+}
+
 }  // namespace fusecal::fastdds_peer

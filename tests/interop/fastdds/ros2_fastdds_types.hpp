@@ -14,5 +14,6 @@ ros_sensor::Image_ ToFastDds(RosImage&& in);
 ros_sensor::CompressedImage_ ToFastDds(RosCompressedImage&& in);
 ros_sensor::PointCloud2_ ToFastDds(RosPointCloud2&& in);
 ros_sensor::CameraInfo_ ToFastDds(RosCameraInfo&& in);
+livox_ros_driver2::msg::dds_::CustomMsg_ ToFastDds(RosLivoxCustomMsg&& in);
 
 }  // namespace fusecal::fastdds_peer

@@ -1,8 +1,8 @@
 // `fusecal run --ros2` against a ROS 2 robot played by a peer on Fast DDS (ROS 2's default middleware,
 // its own implementation) or on Cyclone with rosidl's types: a simulated recording (tiny-pinhole) published as
-// sensor_msgs topics at recorded pace gives the extrinsic `fusecal calibrate` gives on the same log (same stations, so
-// within 1e-6), and a reader of rt/tf_static that joins late gets it. Without the sensor topics the run ends with the
-// list of what the domain has, exit 1.
+// sensor_msgs topics (or the clouds as Livox's CustomMsg) at recorded pace gives the extrinsic `fusecal calibrate`
+// gives on the same log (same stations, so within 1e-6), and a reader of rt/tf_static that joins late gets it. Without
+// the sensor topics the run ends with the list of what the domain has, exit 1.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -48,12 +48,14 @@ class Ros2Live : public ::testing::Test {
   }
 
   // The pipeline config as shipped, which names no ROS 2 domain: the run takes ROS_DOMAIN_ID (RunRos2).
-  static std::string Config(int domain, double topic_timeout_s, const std::string& image_topic = "/camera/image_raw") {
+  static std::string Config(int domain, double topic_timeout_s, const std::string& image_topic = "/camera/image_raw",
+                            const std::string& cloud_type = "sensor_msgs/msg/PointCloud2") {
     std::string text = ReadAll(PIPELINE_CONFIG);
     EXPECT_FALSE(std::regex_search(text, std::regex("\\n  domain:"))) << "the shipped config sets a ROS 2 domain";
     text = std::regex_replace(text, std::regex("topic_timeout_s: 15"),
                               "topic_timeout_s: " + std::to_string(topic_timeout_s));
     text = std::regex_replace(text, std::regex("image_topic: /camera/image_raw"), "image_topic: " + image_topic);
+    text = std::regex_replace(text, std::regex("cloud_type: sensor_msgs/msg/PointCloud2"), "cloud_type: " + cloud_type);
     const std::string path = Dir() + "/config_" + std::to_string(domain) + ".yaml";
     std::ofstream(path) << text;
     return path;
@@ -85,12 +87,13 @@ class Ros2Live : public ::testing::Test {
 
   // Plays the recording through `peer` (its `play` and `tf-listen` commands) into `fusecal run --ros2`.
   void CalibrateLive(const std::string& peer, int domain, const std::string& play_flags,
-                     const std::string& image_topic = "/camera/image_raw") {
+                     const std::string& image_topic = "/camera/image_raw",
+                     const std::string& cloud_type = "sensor_msgs/msg/PointCloud2") {
     const std::string out = Dir() + "/live_" + std::to_string(domain), run_log = out + ".log";
     fs::remove_all(out);
-    const pid_t run = StartInBackground(
-        RunRos2(domain) + " --config " + Config(domain, 30, image_topic) + " --bus " + Bus(domain) + " --out " + out,
-        run_log);
+    const pid_t run = StartInBackground(RunRos2(domain) + " --config " + Config(domain, 30, image_topic, cloud_type) +
+                                            " --bus " + Bus(domain) + " --out " + out,
+                                        run_log);
     ASSERT_GT(run, 0);
     const auto played =
         RunCommand(peer + " play " + log_ + " --domain " + std::to_string(domain) + " " + play_flags + " 2>&1");
@@ -168,6 +171,11 @@ TEST_F(Ros2Live, FastDdsPeerAsRos2sDefaultMiddleware) { CalibrateLive(FASTDDS_PE
 
 TEST_F(Ros2Live, FastDdsPeerBestEffortCompressedImages) {
   CalibrateLive(FASTDDS_PEER_BIN, 76, "--best-effort --compressed", "/camera/image_raw/compressed");
+}
+
+// A Livox LiDAR: the clouds as livox_ros_driver2/msg/CustomMsg (ros2_input.cloud_type).
+TEST_F(Ros2Live, FastDdsPeerLivoxCustomMsg) {
+  CalibrateLive(FASTDDS_PEER_BIN, 77, "--livox", "/camera/image_raw", "livox_ros_driver2/msg/CustomMsg");
 }
 
 TEST_F(Ros2Live, NoPublisherEndsWithWhatTheDomainHas) {

@@ -1,6 +1,6 @@
 // The ROS 2 input without DDS: CDR samples of each topic into frames (the conversions of `fusecal import
 // rosbag`), malformed ones counted with their reason, losses judged from stamp gaps; the settings'
-// checks and topic names; fusecal's types as ROS messages and back.
+// checks and topic names; fusecal's types as ROS messages and back; Livox's CustomMsg as the cloud.
 #include <gtest/gtest.h>
 
 #include "formats/ros2_names.hpp"
@@ -77,6 +77,33 @@ TEST(Ros2SensorInput, EachTopicBecomesItsFrameAndTheCameraIsTakenOnce) {
   EXPECT_EQ(input.counts(Ros2SensorTopic::kCameraInfo).received, 2);
 }
 
+TEST(Ros2SensorInput, ALivoxCustomMsgBecomesAScanWithReflectivityLinesAndTimes) {
+  Ros2SensorInput input(Pinhole());
+  PointCloud cloud;
+  cloud.points = {{1, 2, 3}, {0, 0, 0}, {4, 5, 6}};
+  cloud.intensity = {12.4f, 0.f, 300.f};  // reflectivity is a byte: rounded and clamped
+  cloud.ring = {0, 1, 3};
+  cloud.time_offset_s = {-0.002f, 0.f, 0.0495f};
+  const RosLivoxCustomMsg msg = ToRosLivoxCustomMsg(cloud, RosHeader{UtimeToRosStamp(kT0 + 7), "livox_frame"});
+  EXPECT_EQ(msg.timebase, static_cast<uint64_t>(kT0 + 7) * 1000 - 2000000);  // the first point's time
+  const auto bytes = EncodeCdr(msg, CdrByteOrder::kBig);
+  const Ros2InputFrame taken = input.Take(Ros2SensorTopic::kLivoxCloud, bytes.data(), bytes.size(), kT0 + 900);
+  ASSERT_TRUE(taken.scan) << taken.error;
+  EXPECT_EQ(taken.scan->utime, kT0 + 7);
+  EXPECT_EQ(taken.scan->frame_id, "livox_frame");
+  EXPECT_EQ(taken.scan->dropped, 1);
+  EXPECT_EQ(taken.scan->cloud.points, (std::vector<Eigen::Vector3f>{cloud.points[0], cloud.points[2]}));
+  EXPECT_EQ(taken.scan->cloud.intensity, (std::vector<float>{12.f, 255.f}));
+  EXPECT_EQ(taken.scan->cloud.ring, (std::vector<int16_t>{0, 3}));
+  ASSERT_EQ(taken.scan->cloud.time_offset_s.size(), 2u);
+  EXPECT_NEAR(taken.scan->cloud.time_offset_s[0], -0.002, 1e-8);
+  EXPECT_NEAR(taken.scan->cloud.time_offset_s[1], 0.0495, 1e-8);
+  const Ros2InputFrame garbled = input.Take(Ros2SensorTopic::kLivoxCloud, bytes.data(), bytes.size() - 3, kT0);
+  EXPECT_NE(garbled.error.find("livox_ros_driver2/msg/CustomMsg"), std::string::npos) << garbled.error;
+  EXPECT_EQ(input.counts(Ros2SensorTopic::kLivoxCloud).used, 1);
+  EXPECT_EQ(input.counts(Ros2SensorTopic::kLivoxCloud).malformed, 1);
+}
+
 TEST(Ros2SensorInput, MalformedMessagesAreCountedWithTheFirstReason) {
   Ros2SensorInput input(Pinhole());  // from a camera file: CameraInfo is not used
   const auto info = EncodeCdr(ToRosCameraInfo(Pinhole(), Header(kT0)));
@@ -110,6 +137,15 @@ TEST(Ros2InputSettings, CameraInfoTopicFollowsImageTransportAndBadNamesAreRefuse
   s.cloud_topic = "/lidar points";
   EXPECT_NE(s.Validate().find("cloud_topic"), std::string::npos);
   s.cloud_topic = "/points";
+  EXPECT_FALSE(s.livox());
+  s.cloud_type = "livox_ros_driver2/msg/CustomMsg";
+  EXPECT_TRUE(s.livox());
+  EXPECT_EQ(s.Validate(), "");
+  s.cloud_type = "livox_ros_driver2/CustomMsg";
+  EXPECT_EQ(s.Validate(),
+            "cloud_type: 'livox_ros_driver2/CustomMsg' is not sensor_msgs/msg/PointCloud2 or "
+            "livox_ros_driver2/msg/CustomMsg");
+  s.cloud_type = "sensor_msgs/msg/PointCloud2";
   s.domain = 233;
   EXPECT_NE(s.Validate().find("domain"), std::string::npos);
   EXPECT_GE(ReceiveBufferBytes(Ros2InputSettings{}), size_t{60'000'000});
