@@ -1,5 +1,8 @@
-// Fuzz entry of ROS 2 sensor messages in CDR (fuzz_entries.hpp), as a ROS 2 bag or DDS hands them over:
-// decoded (formats/ros_cdr.hpp), then converted as `fusecal import rosbag` converts them.
+// Fuzz entries of ROS sensor messages (fuzz_entries.hpp), as a ROS 2 bag or DDS hands them over (CDR)
+// and, for Livox's CustomMsg, as a ROS 1 bag does: decoded (formats/ros_cdr.hpp,
+// formats/ros1_serialized.hpp), then converted as `fusecal import rosbag` converts them.
+#include "formats/livox_conversions.hpp"
+#include "formats/ros1_serialized.hpp"
 #include "formats/ros_cdr.hpp"
 #include "formats/ros_sensor_conversions.hpp"
 #include "fuzz_entries.hpp"
@@ -32,6 +35,18 @@ int FuzzOneRosCdr(const uint8_t* data, size_t size) {
     default:
       IgnoringRejection([&] { RosCameraInfoToParams(DecodeCdrCameraInfo(message, length)); });
   }
+  return 0;
+}
+
+// The first byte chooses the form (even: CDR, odd: ROS 1); the rest is the serialized CustomMsg.
+int FuzzOneRosLivox(const uint8_t* data, size_t size) {
+  if (size == 0) return 0;
+  const uint8_t* message = data + 1;
+  const size_t length = size - 1;
+  IgnoringRejection([&] {
+    LivoxCustomMsgToPointCloud(data[0] % 2 == 0 ? DecodeCdrLivoxCustomMsg(message, length)
+                                                : DecodeRos1LivoxCustomMsg(message, length));
+  });
   return 0;
 }
 

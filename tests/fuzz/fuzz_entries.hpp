@@ -69,6 +69,10 @@ int FuzzOneStrictYaml(const uint8_t* data, size_t size);
 // CompressedImage or CameraInfo; decoded and converted as `fusecal import rosbag` does.
 int FuzzOneRosCdr(const uint8_t* data, size_t size);
 
+// Livox's CustomMsg (entries_ros_cdr.cpp): the first byte chooses CDR (even) or ROS 1 (odd); decoded
+// and converted as `fusecal import rosbag` does.
+int FuzzOneRosLivox(const uint8_t* data, size_t size);
+
 // ROS 2 bags (entries_rosbag2.cpp): an MCAP file, scanned and every message read in log-time order.
 int FuzzOneMcap(const uint8_t* data, size_t size);
 

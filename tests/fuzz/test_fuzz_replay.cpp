@@ -53,6 +53,7 @@ const std::map<std::string, Entry>& Entries() {
       {"mcap", FuzzOneMcap},
       {"motion_csv", FuzzOneMotionCsv},
       {"ros_cdr", FuzzOneRosCdr},
+      {"ros_livox", FuzzOneRosLivox},
       {"bus_url", FuzzOneBusUrl},
       {"channel_pattern", FuzzOneChannelPattern},
       {"extrinsic_text", FuzzOneExtrinsicText},

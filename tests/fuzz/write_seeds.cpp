@@ -281,10 +281,71 @@ RosPointCloud2 RosCloud() {
   return msg;
 }
 
+// Livox's PointCloud2 layout (x, y, z, intensity float32, tag, line uint8, timestamp float64, packed).
+RosPointCloud2 RosLivoxCloud() {
+  RosPointCloud2 msg;
+  msg.header = RosHeader{RosTime{1700000000, 5000}, "livox_frame"};
+  msg.height = 1;
+  msg.width = 3;
+  msg.fields = {{"x", 0, RosPointField::FLOAT32, 1},         {"y", 4, RosPointField::FLOAT32, 1},
+                {"z", 8, RosPointField::FLOAT32, 1},         {"intensity", 12, RosPointField::FLOAT32, 1},
+                {"tag", 16, RosPointField::UINT8, 1},        {"line", 17, RosPointField::UINT8, 1},
+                {"timestamp", 18, RosPointField::FLOAT64, 1}};
+  msg.point_step = 26;
+  msg.row_step = 78;
+  const PointCloud cloud = SmallCloud(true);
+  msg.data.assign(78, 0);
+  for (int i = 0; i < 3; ++i) {
+    std::memcpy(&msg.data[26 * i], cloud.points[i].data(), 12);
+    std::memcpy(&msg.data[26 * i + 12], &cloud.intensity[i], 4);
+    msg.data[26 * i + 17] = static_cast<uint8_t>(i);
+    const double t = 1700000000000005000.0 + 5000.0 * i;
+    std::memcpy(&msg.data[26 * i + 18], &t, 8);
+  }
+  return msg;
+}
+
+// Livox's CustomMsg behind the byte that chooses CDR (0) or ROS 1 (1) (entries_ros_cdr.cpp).
+void WriteRosLivoxSeeds() {
+  RosLivoxCustomMsg msg;
+  msg.header = RosHeader{RosTime{1700000000, 5000}, "livox_frame"};
+  msg.timebase = 1700000000000005000ull;
+  msg.points = {{0, 1.5f, -2.f, 0.25f, 10, 0x10, 0}, {5000, 3.f, 4.f, -5.f, 200, 0, 3}};
+  msg.point_num = 2;
+  for (const auto order : {testing_utils::CdrByteOrder::kLittle, testing_utils::CdrByteOrder::kBig}) {
+    std::vector<uint8_t> bytes = {0};
+    const std::vector<uint8_t> cdr = testing_utils::EncodeCdr(msg, order);
+    bytes.insert(bytes.end(), cdr.begin(), cdr.end());
+    WriteBytes("ros_livox", order == testing_utils::CdrByteOrder::kLittle ? "cdr_le" : "cdr_be", bytes);
+  }
+  // ROS 1: seq, stamp, frame_id without NUL; timebase, point_num, lidar_id, rsvd; points packed (19 bytes).
+  std::vector<uint8_t> ros1 = {1};
+  const auto put = [&ros1](const void* p, size_t n) {
+    ros1.insert(ros1.end(), static_cast<const uint8_t*>(p), static_cast<const uint8_t*>(p) + n);
+  };
+  const uint32_t header[4] = {7, 1700000000, 5000, static_cast<uint32_t>(msg.header.frame_id.size())};
+  put(header, sizeof(header));
+  put(msg.header.frame_id.data(), msg.header.frame_id.size());
+  put(&msg.timebase, 8);
+  put(&msg.point_num, 4);
+  ros1.insert(ros1.end(), {msg.lidar_id, 0, 0, 0});
+  const uint32_t count = 2;
+  put(&count, 4);
+  for (const RosLivoxPoint& p : msg.points) {
+    put(&p.offset_time, 4);
+    put(&p.x, 4);
+    put(&p.y, 4);
+    put(&p.z, 4);
+    ros1.insert(ros1.end(), {p.reflectivity, p.tag, p.line});
+  }
+  WriteBytes("ros_livox", "ros1", ros1);
+}
+
 void WriteRosCdrSeeds() {
   using testing_utils::CdrByteOrder;
   WriteRosCdrSeed(0, "cloud_le", RosCloud(), CdrByteOrder::kLittle);
   WriteRosCdrSeed(0, "cloud_be", RosCloud(), CdrByteOrder::kBig);
+  WriteRosCdrSeed(0, "cloud_livox_le", RosLivoxCloud(), CdrByteOrder::kLittle);
   const cv::Mat grey = SmallImage(CV_8UC1);
   RosImage image;
   image.header = RosHeader{RosTime{1700000000, 0}, "camera"};
@@ -356,8 +417,10 @@ std::vector<uint8_t> DdsSample(const std::vector<uint8_t>& lcm, uint32_t xcdr_ve
   else
     dds_stream_writeLE(reinterpret_cast<dds_ostreamLE_t*>(&os), sample, fusecal_lcm_message_desc.m_ops);
   const uint8_t id = static_cast<uint8_t>((xcdr_version == 2 ? 0x06 : 0x00) | (big_endian ? 0 : 1));
-  std::vector<uint8_t> bytes = {0x00, id, 0x00, 0x00};
-  bytes.insert(bytes.end(), os.m_buffer, os.m_buffer + os.m_index);
+  // Sized at once: gcc 12 takes an insert after the 4-byte header for a write past it (-Warray-bounds).
+  std::vector<uint8_t> bytes(4 + os.m_index, 0);
+  bytes[1] = id;
+  if (os.m_index > 0) std::memcpy(bytes.data() + 4, os.m_buffer, os.m_index);
   dds_ostream_fini(&os);
   return bytes;
 }
@@ -386,6 +449,7 @@ int main(int argc, char** argv) {
   fusecal::WriteFileSeeds();
   fusecal::WriteDdsSeeds();
   fusecal::WriteRosCdrSeeds();
+  fusecal::WriteRosLivoxSeeds();
   fusecal::WriteMcapSeeds();
   return 0;
 }

@@ -172,6 +172,24 @@ TEST(LivoxRos1, AGoldenMessageDecodesAndOneCutShortAnywhereIsRefused) {
   EXPECT_NE(error.find("field 'points' length 4294967295 runs past the end"), std::string::npos) << error;
 }
 
+// Every byte of both forms set to each of a few values: decoded and converted, or refused with an
+// exception, never a crash (the fuzz entry ros_livox does this at random).
+TEST(LivoxBytes, EveryByteCorruptedDecodesOrIsRefused) {
+  const Bytes forms[] = {EncodeCdr(SampleCustomMsg()), EncodeCdr(SampleCustomMsg(), CdrByteOrder::kBig),
+                         GoldenRos1(SampleCustomMsg())};
+  for (size_t form = 0; form < 3; ++form)
+    for (size_t i = 0; i < forms[form].size(); ++i)
+      for (const uint8_t value : {0x00, 0x7F, 0x80, 0xFF}) {
+        Bytes bytes = forms[form];
+        bytes[i] = value;
+        try {
+          LivoxCustomMsgToPointCloud(form < 2 ? DecodeCdrLivoxCustomMsg(bytes.data(), bytes.size())
+                                              : DecodeRos1LivoxCustomMsg(bytes.data(), bytes.size()));
+        } catch (const std::runtime_error&) {
+        }
+      }
+}
+
 TEST(LivoxConversion, PointsReflectivityLinesAndTimesAfterTheStampWithoutReturnsDropped) {
   RosLivoxCustomMsg msg = SampleCustomMsg();
   msg.timebase = kStampNs + 1000;  // the first point 1 us after the stamp
