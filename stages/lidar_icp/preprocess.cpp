@@ -33,9 +33,23 @@ double MedianRange(const std::vector<Eigen::Vector3f>& points) {
   return *mid;
 }
 
-std::vector<Eigen::Vector3f> VoxelDownsample(const std::vector<Eigen::Vector3f>& points, double voxel_m) {
-  // 21 bits per axis around the origin: +-1e6 voxels, far beyond any range crop.
-  constexpr int64_t kHalf = int64_t(1) << 20;
+namespace {
+
+// A voxel: its key (21 bits per axis around the origin: +-1e6 voxels, far beyond any range crop), and the
+// sum and count of its points.
+struct Voxel {
+  uint64_t key;
+  Eigen::Vector3d sum;
+  uint32_t count;
+};
+constexpr int64_t kHalf = int64_t(1) << 20;
+// NeighbourhoodVoxelCentroids: a voxel with fewer points than 1 / kTailRatio of its densest neighbour's
+// holds the tail of the noise off a surface that runs through that neighbour.
+constexpr uint32_t kTailRatio = 3;
+
+// The occupied voxels, sorted by key. Points in the outermost voxel layer of the key space are dropped, so
+// that every voxel has 26 neighbours with valid keys.
+std::vector<Voxel> Voxelize(const std::vector<Eigen::Vector3f>& points, double voxel_m) {
   const double inv = 1.0 / voxel_m;
   std::vector<std::pair<uint64_t, uint32_t>> keyed;
   keyed.reserve(points.size());
@@ -44,20 +58,52 @@ std::vector<Eigen::Vector3f> VoxelDownsample(const std::vector<Eigen::Vector3f>&
     const int64_t x = static_cast<int64_t>(std::floor(p.x() * inv)) + kHalf;
     const int64_t y = static_cast<int64_t>(std::floor(p.y() * inv)) + kHalf;
     const int64_t z = static_cast<int64_t>(std::floor(p.z() * inv)) + kHalf;
-    if (x < 0 || y < 0 || z < 0 || x >= 2 * kHalf || y >= 2 * kHalf || z >= 2 * kHalf) continue;
+    if (std::min({x, y, z}) < 1 || std::max({x, y, z}) >= 2 * kHalf - 1) continue;
     keyed.emplace_back((uint64_t(x) << 42) | (uint64_t(y) << 21) | uint64_t(z), i);
   }
   std::sort(keyed.begin(), keyed.end());
-  std::vector<Eigen::Vector3f> out;
+  std::vector<Voxel> voxels;
   for (size_t begin = 0; begin < keyed.size();) {
-    size_t end = begin;
+    Voxel v{keyed[begin].first, Eigen::Vector3d::Zero(), 0};
+    for (; begin + v.count < keyed.size() && keyed[begin + v.count].first == v.key; ++v.count)
+      v.sum += points[keyed[begin + v.count].second].cast<double>();
+    voxels.push_back(v);
+    begin += v.count;
+  }
+  return voxels;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3f> VoxelDownsample(const std::vector<Eigen::Vector3f>& points, double voxel_m) {
+  std::vector<Eigen::Vector3f> out;
+  for (const Voxel& v : Voxelize(points, voxel_m)) out.push_back((v.sum / double(v.count)).cast<float>());
+  return out;
+}
+
+std::vector<Eigen::Vector3f> NeighbourhoodVoxelCentroids(const std::vector<Eigen::Vector3f>& points, double voxel_m) {
+  const std::vector<Voxel> voxels = Voxelize(points, voxel_m);
+  const auto before = [](const Voxel& v, uint64_t key) { return v.key < key; };
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(voxels.size());
+  for (const Voxel& v : voxels) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    while (end < keyed.size() && keyed[end].first == keyed[begin].first) {
-      sum += points[keyed[end].second].cast<double>();
-      ++end;
+    double count = 0;
+    uint32_t densest = 0;
+    for (int64_t dx = -1; dx <= 1; ++dx) {
+      for (int64_t dy = -1; dy <= 1; ++dy) {
+        // The three voxels along z are neighbours in key order: one search per (dx, dy).
+        const uint64_t first = v.key + (uint64_t(dx) << 42) + (uint64_t(dy) << 21) - 1;
+        for (auto it = std::lower_bound(voxels.begin(), voxels.end(), first, before);
+             it != voxels.end() && it->key <= first + 2; ++it) {
+          sum += it->sum;
+          count += it->count;
+          densest = std::max(densest, it->count);
+        }
+      }
     }
-    out.push_back((sum / double(end - begin)).cast<float>());
-    begin = end;
+    if (v.count * kTailRatio < densest) continue;
+    out.push_back((sum / count).cast<float>());
   }
   return out;
 }

@@ -22,6 +22,16 @@ double MedianRange(const std::vector<Eigen::Vector3f>& points);
 // averages range noise). Output order is deterministic (sorted by voxel key).
 std::vector<Eigen::Vector3f> VoxelDownsample(const std::vector<Eigen::Vector3f>& points, double voxel_m);
 
+// One point per occupied voxel: the centroid of the points in the 3 x 3 x 3 voxels around it. With range
+// noise not far below the voxel size, a voxel's own centroid is pulled toward the voxel's centre (the
+// voxel cuts the noise's spread across a surface), by an amount that follows the grid, and two scans lie
+// differently in it: ICP slides by the difference (2 cm of range noise, 5 cm voxels, Livox Avia-like
+// accumulated clouds: 0.068 deg / 5.3 mm rms per registration from voxel centroids, 0.009 deg / 0.6 mm
+// from these). The neighbourhood reaches the whole spread of the noise, so its centroid lies on the
+// surface, except for a voxel that holds only the noise's tail beyond the surface (fewer than a third of
+// the points of its densest neighbour): such a voxel is left out.
+std::vector<Eigen::Vector3f> NeighbourhoodVoxelCentroids(const std::vector<Eigen::Vector3f>& points, double voxel_m);
+
 // At most max_count points, a fixed-seed random subset (deterministic).
 std::vector<Eigen::Vector3f> Subsample(const std::vector<Eigen::Vector3f>& points, size_t max_count);
 

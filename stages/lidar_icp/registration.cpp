@@ -86,16 +86,16 @@ Outcome Prepare(const PointCloud& scan_i, const PointCloud& scan_j, const Regist
   const bool automatic = settings.voxel_size_m <= 0;
   c->scales =
       ChooseScales(settings, automatic ? std::clamp(0.012 * MedianRange(valid_i), 0.05, 0.25) : settings.voxel_size_m);
-  c->target_fine.points = VoxelDownsample(valid_i, c->scales.fine_voxel);
+  c->target_fine.points = NeighbourhoodVoxelCentroids(valid_i, c->scales.fine_voxel);
   if (automatic && c->target_fine.points.size() > kMaxAutoTargetPoints) {
     // Dense scans of small scenes: a coarser voxel keeps the target (normals, tree) bounded.
     const double grow = std::sqrt(double(c->target_fine.points.size()) / double(kMaxAutoTargetPoints));
     c->scales = ChooseScales(settings, c->scales.fine_voxel * grow);
-    c->target_fine.points = VoxelDownsample(valid_i, c->scales.fine_voxel);
+    c->target_fine.points = NeighbourhoodVoxelCentroids(valid_i, c->scales.fine_voxel);
   }
   // The coarse grids are built from the fine ones (fewer points to sort).
   c->target_coarse.points = VoxelDownsample(c->target_fine.points, c->scales.coarse_voxel);
-  const std::vector<Eigen::Vector3f> source_voxels = VoxelDownsample(valid_j, c->scales.fine_voxel);
+  const std::vector<Eigen::Vector3f> source_voxels = NeighbourhoodVoxelCentroids(valid_j, c->scales.fine_voxel);
   c->source_fine = Subsample(source_voxels, settings.max_source_points);
   c->source_coarse = Subsample(VoxelDownsample(source_voxels, c->scales.coarse_voxel), kCoarseSourcePoints);
   if (static_cast<int>(std::min(c->source_fine.size(), c->target_fine.points.size())) < settings.min_points)

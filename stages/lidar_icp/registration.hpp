@@ -1,7 +1,8 @@
 // LiDAR motion B_i = T_li_lj between two station scans, with no initial guess (Ishikawa et al., IROS 2018,
 // section III-A-1: "ICP ... starting from a large correspondence distance threshold that shrinks while
 // outliers are rejected"). Pipeline (registration.cpp):
-//   1. preprocess both scans: drop non-finite points, crop range, voxel downsample, target normals;
+//   1. preprocess both scans: drop non-finite points, crop range, voxel downsample (each voxel the
+//      centroid of its 3 x 3 x 3 neighbourhood, unbiased by the grid: preprocess.hpp), target normals;
 //   2. global alignment: the rig is turned between stations (any yaw, tilt up to ~45 deg, ~1 m
 //      translation), so rotations are searched on a grid scored against a truncated distance field of
 //      the target that also knows the target's free space, and the best candidates are hill-climbed in

@@ -40,6 +40,48 @@ TEST(Preprocess, VoxelDownsampleKeepsCentroids) {
   EXPECT_EQ(VoxelDownsample(pts, 1.0), v);  // deterministic
 }
 
+// A noisy plane z = height (2 cm noise, 5 cm voxels): the mean height of the downsampled points, weighting
+// each voxel alike as ICP does.
+double MeanHeight(const std::vector<Eigen::Vector3f>& points) {
+  double sum = 0;
+  for (const auto& p : points) sum += p.z();
+  return sum / double(points.size());
+}
+
+std::vector<Eigen::Vector3f> NoisyPlane(float height) {
+  std::mt19937 rng(3);
+  std::normal_distribution<float> noise(0.0f, 0.02f);
+  std::uniform_real_distribution<float> along(-2.0f, 2.0f);
+  std::vector<Eigen::Vector3f> pts;
+  for (int i = 0; i < 200000; ++i) pts.emplace_back(along(rng), along(rng), height + noise(rng));
+  return pts;
+}
+
+TEST(Preprocess, NeighbourhoodCentroidsOfANoisyPlaneLieOnItWhereverTheGridFalls) {
+  double worst_voxel = 0, worst_neighbourhood = 0;
+  for (float height : {0.0f, 0.01f, 0.02f, 0.0125f, 0.025f, 0.04f}) {
+    const auto pts = NoisyPlane(height);
+    worst_voxel = std::max(worst_voxel, std::abs(MeanHeight(VoxelDownsample(pts, 0.05)) - height));
+    const auto smoothed = NeighbourhoodVoxelCentroids(pts, 0.05);
+    // Voxels holding only the noise's tail off the plane are left out; a point per column remains.
+    EXPECT_LE(smoothed.size(), VoxelDownsample(pts, 0.05).size());
+    EXPECT_GE(smoothed.size(), 80u * 80u);
+    worst_neighbourhood = std::max(worst_neighbourhood, std::abs(MeanHeight(smoothed) - height));
+  }
+  // The voxels' own centroids are pulled toward the grid by millimetres; the neighbourhoods' are not.
+  EXPECT_GT(worst_voxel, 2e-3);
+  EXPECT_LT(worst_neighbourhood, 5e-4);
+}
+
+TEST(Preprocess, NeighbourhoodCentroidsAverageTheTwentySevenVoxels) {
+  const std::vector<Eigen::Vector3f> pts = {{0.5f, 0.5f, 0.5f}, {1.5f, 0.5f, 0.5f}, {3.5f, 0.5f, 0.5f}};
+  const auto v = NeighbourhoodVoxelCentroids(pts, 1.0);
+  ASSERT_EQ(v.size(), 3u);
+  EXPECT_TRUE(v[0].isApprox(Eigen::Vector3f(1.0f, 0.5f, 0.5f)));  // itself and its neighbour at x + 1
+  EXPECT_TRUE(v[1].isApprox(Eigen::Vector3f(1.0f, 0.5f, 0.5f)));
+  EXPECT_TRUE(v[2].isApprox(Eigen::Vector3f(3.5f, 0.5f, 0.5f)));  // alone
+}
+
 TEST(Preprocess, SubsampleIsDeterministicAndBounded) {
   std::vector<Eigen::Vector3f> pts;
   for (int i = 0; i < 1000; ++i) pts.emplace_back(float(i), 0, 0);
