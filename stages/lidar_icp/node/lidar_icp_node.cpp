@@ -20,6 +20,8 @@ LidarIcpNodeSettings ReadLidarIcpNodeSettings(ConfigReader r) {
   r.Get("voxel_size_m", &g.voxel_size_m);
   r.Get("max_tilt_deg", &g.max_tilt_deg);
   r.Get("max_correspondence_m", &g.max_correspondence_m);
+  r.Get("min_correspondence_m", &g.min_correspondence_m);
+  r.Get("max_source_points", &g.max_source_points);
   r.Get("min_fitness", &g.min_fitness);
   r.Get("num_threads", &g.num_threads);
   r.Finish();
