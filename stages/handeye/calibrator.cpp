@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "foundation/observed_covariance.hpp"
 #include "handeye/motion_selection.hpp"
@@ -25,7 +26,17 @@ bool CanRefine(const HandEyeResult& r) {
 
 StationPair KeyOf(const SensorMotion& m) { return {m.station_i, m.station_j}; }
 
+std::string ThreeDigits(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", v);
+  return text;
+}
+
 }  // namespace
+
+Calibrator::Change Calibrator::Difference(const Isometry3& a, const Isometry3& b) {
+  return {RotationErrorDeg(a.linear(), b.linear()) * M_PI / 180.0, (a.translation() - b.translation()).norm()};
+}
 
 const char* Name(VersionStatus status) {
   switch (status) {
@@ -162,6 +173,7 @@ std::vector<CalibrationVersion> Calibrator::StartRound(int64_t now_utime) {
   if (initial_ && initial_->usable()) solver.previous_verdict = initial_->observability;
   initial_ = SolveScaleless(ScalelessPairs(), solver);
   iteration_ = 0;
+  previous_estimate_.reset();
   converged_ = false;
   const bool usable = CanRefine(*initial_);
   if (!usable) {
@@ -216,17 +228,27 @@ std::vector<CalibrationVersion> Calibrator::OnFusedMotions(int version, const st
     kept.message = why;
     return {MakeVersion(kept, VersionStatus::kFailed, {}, now_utime)};
   }
-  const double change_rot_deg = RotationErrorDeg(result.T_camera_lidar.linear(), current_->T_camera_lidar.linear());
-  const Change change{change_rot_deg * M_PI / 180.0,
-                      (result.T_camera_lidar.translation() - current_->T_camera_lidar.translation()).norm()};
+  const Change change = Difference(result.T_camera_lidar, current_->T_camera_lidar);
+  const std::optional<Isometry3> two_back = previous_estimate_;
+  previous_estimate_ = current_->T_camera_lidar;
   current_ = result;
   ++iteration_;
   const ObservedUncertainty observed =
       ObservedPart(result.covariance, result.T_camera_lidar.linear(), result.unobservable_direction);
   const double f = settings_.tolerance_std_fraction;
-  const bool small =
-      change_rot_deg < std::max(settings_.tolerance_rotation_deg, f * observed.max_rotation_std_deg) &&
-      change.translation_m < std::max(settings_.tolerance_translation_m, f * observed.max_translation_std_m);
+  const auto below = [&](const Change& c, double fraction) {
+    return c.rotation_rad * 180.0 / M_PI <
+               std::max(settings_.tolerance_rotation_deg, fraction * observed.max_rotation_std_deg) &&
+           c.translation_m < std::max(settings_.tolerance_translation_m, fraction * observed.max_translation_std_m);
+  };
+  // Fusion odometry depends on the extrinsic by steps (which tracks see which points), so the alternation
+  // can settle into a cycle of two estimates instead of a point: back where it was two iterations ago,
+  // with a step below the estimate's std, it has converged as far as the noise can tell.
+  const bool cycle = two_back && below(Difference(result.T_camera_lidar, *two_back), f) && below(change, 1.0);
+  const bool small = below(change, f) || cycle;
+  if (cycle && !below(change, f))
+    note_ = "the alternation settled into a cycle of " + ThreeDigits(change.rotation_rad * 180.0 / M_PI) + " deg / " +
+            ThreeDigits(change.translation_m) + " m between two estimates, within their std";
   const bool done = small || iteration_ >= settings_.max_iterations;
   VersionStatus status = VersionStatus::kRefining;
   if (done)

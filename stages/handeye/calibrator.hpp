@@ -126,6 +126,7 @@ class Calibrator {
     double rotation_rad = 0;
     double translation_m = 0;
   };
+  static Change Difference(const Isometry3& a, const Isometry3& b);
   std::vector<CalibrationVersion> StartRound(int64_t now_utime);
   CalibrationVersion MakeVersion(const HandEyeResult& result, VersionStatus status, Change change, int64_t now_utime);
   std::vector<MotionPair> ScalelessPairs() const;
@@ -152,6 +153,7 @@ class Calibrator {
   std::optional<CalibrationVersion> last_request_;
   int64_t last_sent_utime_ = 0;
   int iteration_ = 0;
+  std::optional<Isometry3> previous_estimate_;  // the estimate before current_, within this round
   bool converged_ = false;
   int retries_ = 0;
   std::string state_ = "waiting for motions";

@@ -116,6 +116,52 @@ TEST(Calibrator, AlternatesWithFusionOdometryUntilTheChangeIsSmall) {
   EXPECT_EQ(all.back().used.size() + all.back().not_used.size(), 12u) << "every held pair is listed";
 }
 
+// Fusion odometry whose answer flips with the request (even versions shift every camera translation by
+// +offset, odd ones by -offset along x): the alternation cycles between two estimates.
+std::vector<CalibrationVersion> AnswerFlipping(Calibrator& calibrator, const Rig& rig, double offset_m,
+                                               std::vector<CalibrationVersion> versions) {
+  std::vector<CalibrationVersion> seen;
+  while (!versions.empty()) {
+    seen.insert(seen.end(), versions.begin(), versions.end());
+    const CalibrationVersion& last = versions.back();
+    if (!last.asks()) break;
+    std::vector<SensorMotion> fused = rig.Fused(last);
+    for (SensorMotion& m : fused) m.T_i_j.translation().x() += last.version % 2 == 0 ? offset_m : -offset_m;
+    versions = calibrator.OnFusedMotions(last.version, fused, 0);
+  }
+  return seen;
+}
+
+std::vector<CalibrationVersion> PlayFlipping(Calibrator& calibrator, const Rig& rig, double offset_m) {
+  std::vector<CalibrationVersion> seen;
+  for (int k = 0; k < 10; ++k) {
+    calibrator.OnMotion(rig.Lidar(k), 0);
+    const auto v = AnswerFlipping(calibrator, rig, offset_m, calibrator.OnMotion(rig.FrontEndCamera(k), 0));
+    seen.insert(seen.end(), v.begin(), v.end());
+  }
+  return seen;
+}
+
+TEST(Calibrator, ACycleOfTwoEstimatesWithinTheirStdHasConverged) {
+  const Rig rig(10);
+  Calibrator calibrator(Settings());
+  const auto seen = PlayFlipping(calibrator, rig, 0.0005);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_TRUE(calibrator.converged()) << calibrator.state();
+  EXPECT_LT(seen.back().iteration, Settings().max_iterations);
+  EXPECT_NE(seen.back().result.message.find("settled into a cycle"), std::string::npos) << seen.back().result.message;
+}
+
+TEST(Calibrator, ACycleWiderThanTheStdIsNotConvergence) {
+  const Rig rig(10);
+  Calibrator calibrator(Settings());
+  const auto seen = PlayFlipping(calibrator, rig, 0.02);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_FALSE(calibrator.converged()) << calibrator.state();
+  EXPECT_EQ(seen.back().status, VersionStatus::kNotConverged);
+  EXPECT_EQ(seen.back().iteration, Settings().max_iterations);
+}
+
 TEST(Calibrator, AMotionOfEitherSensorMayComeFirst) {
   const Rig rig(8);
   Calibrator lidar_first(Settings()), camera_first(Settings());
