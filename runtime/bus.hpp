@@ -136,4 +136,7 @@ std::unique_ptr<Bus> MakeBus(const std::string& url);
 // buffer (large messages are dropped with the kernel default; see `fusecal doctor`).
 std::string DefaultBusUrl();
 
+// True when this build has the iceoryx shared-memory bus (iox://).
+bool SharedMemoryBusBuilt();
+
 }  // namespace fusecal

@@ -17,6 +17,14 @@ std::string DefaultBusUrl() {
   return "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=67108864";
 }
 
+bool SharedMemoryBusBuilt() {
+#ifdef FUSECAL_WITH_IOX
+  return true;
+#else
+  return false;
+#endif
+}
+
 std::unique_ptr<Bus> MakeBus(const std::string& url) {
   const std::string chosen = url.empty() ? DefaultBusUrl() : url;
   const std::string scheme = ParseBusUrl(chosen).scheme;  // every option checked, for every transport

@@ -86,13 +86,14 @@ class Ros2Live : public ::testing::Test {
   }
 
   // Plays the recording through `peer` (its `play` and `tf-listen` commands) into `fusecal run --ros2`.
+  // With `shared_memory`, no bus is named: the run chooses its own (iox://, RouDi started by the run).
   void CalibrateLive(const std::string& peer, int domain, const std::string& play_flags,
                      const std::string& image_topic = "/camera/image_raw",
-                     const std::string& cloud_type = "sensor_msgs/msg/PointCloud2") {
+                     const std::string& cloud_type = "sensor_msgs/msg/PointCloud2", bool shared_memory = false) {
     const std::string out = Dir() + "/live_" + std::to_string(domain), run_log = out + ".log";
     fs::remove_all(out);
     const pid_t run = StartInBackground(RunRos2(domain) + " --config " + Config(domain, 30, image_topic, cloud_type) +
-                                            " --bus " + Bus(domain) + " --out " + out,
+                                            (shared_memory ? "" : " --bus " + Bus(domain)) + " --out " + out,
                                         run_log);
     ASSERT_GT(run, 0);
     const auto played =
@@ -107,6 +108,13 @@ class Ros2Live : public ::testing::Test {
     ASSERT_TRUE(WIFEXITED(status)) << output;
     EXPECT_EQ(WEXITSTATUS(status), 0) << output;  // converged and written
     EXPECT_NE(output.find("converged: written to " + out + "/extrinsic.yaml"), std::string::npos) << output;
+#ifdef FUSECAL_WITH_IOX
+    const std::string bus_said = shared_memory ? "the stages take the frames over shared memory (iox://"
+                                               : "the stages take the frames over udpm://";
+#else
+    const std::string bus_said = "the stages take the frames over udpm://";  // no iceoryx in this build
+#endif
+    EXPECT_NE(output.find(bus_said), std::string::npos) << output;
 
     // The same stations (the frames each was taken from) give the same extrinsic. Under load a frame can
     // be missed (best effort) or skipped (a busy stage's queue), and another frame makes the station:
@@ -176,6 +184,11 @@ TEST_F(Ros2Live, FastDdsPeerBestEffortCompressedImages) {
 // A Livox LiDAR: the clouds as livox_ros_driver2/msg/CustomMsg (ros2_input.cloud_type).
 TEST_F(Ros2Live, FastDdsPeerLivoxCustomMsg) {
   CalibrateLive(FASTDDS_PEER_BIN, 77, "--livox", "/camera/image_raw", "livox_ros_driver2/msg/CustomMsg");
+}
+
+// Every stage on this host and no bus named: the frames go to the stages over shared memory.
+TEST_F(Ros2Live, FastDdsPeerIntoStagesOnSharedMemory) {
+  CalibrateLive(FASTDDS_PEER_BIN, 78, "", "/camera/image_raw", "sensor_msgs/msg/PointCloud2", true);
 }
 
 TEST_F(Ros2Live, NoPublisherEndsWithWhatTheDomainHas) {

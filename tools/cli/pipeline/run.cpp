@@ -1,6 +1,7 @@
 #include "pipeline/run.hpp"
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
 #include <thread>
@@ -69,6 +70,20 @@ std::string CheckedBusUrl(const std::string& url) {
   return chosen;
 }
 
+// A live ROS 2 robot with every stage on this host and no bus named (--bus, bus.url, $LCM_DEFAULT_URL):
+// the raw frames go from fusecal-ros2-input to the stages over shared memory, without the copies that
+// multicast on loopback makes for every subscriber. Stages on other hosts need a network bus.
+bool SharedMemoryForRos2(const PipelineConfig& config, const RunOptions& options) {
+  const char* env = std::getenv("LCM_DEFAULT_URL");
+  return options.ros2 && options.stages.empty() && options.bus_url.empty() && config.bus_url.empty() &&
+         !(env && *env) && SharedMemoryBusBuilt();
+}
+
+std::string RunBusUrl(const PipelineConfig& config, const RunOptions& options) {
+  if (SharedMemoryForRos2(config, options)) return "iox://";
+  return CheckedBusUrl(options.bus_url.empty() ? config.bus_url : options.bus_url);
+}
+
 class PipelineRun {
  public:
   PipelineRun(const PipelineConfig& config, const RunOptions& options, const std::atomic<bool>& stop,
@@ -80,7 +95,7 @@ class PipelineRun {
         progress_(progress),
         event_(event),
         player_(!options.log_path.empty()),
-        url_(CheckedBusUrl(options.bus_url.empty() ? config.bus_url : options.bus_url)),
+        url_(RunBusUrl(config, options)),
         use_detector_(
             config.stations_from == "detector" ||
             (config.stations_from == "auto" && (options.log_path.empty() || !LogHasStations(options.log_path)))),
@@ -153,6 +168,9 @@ class PipelineRun {
            in.cloud_topic + (in.camera_file.empty() ? ", " + in.CameraInfoTopic() : ", camera " + in.camera_file) +
            "; the extrinsic goes to rt/tf_static (domain " + std::to_string(config_.ros2_tf.domain) + ") and " +
            options_.out_dir + "/extrinsic.yaml (Ctrl-C to stop)");
+    event_(url_ == "iox://" ? "the stages take the frames over shared memory (iox://, RouDi started by this run); "
+                              "stages on other hosts need a network bus (--bus)"
+                            : "the stages take the frames over " + url_);
     if (config_.ros2_tf.domain != in.domain)
       event_("note: ros2_tf.domain (" + std::to_string(config_.ros2_tf.domain) + ") differs from ros2_input.domain (" +
              std::to_string(in.domain) + ")");
