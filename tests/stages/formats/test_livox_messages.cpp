@@ -17,6 +17,7 @@
 #include "formats/ros_sensor_conversions.hpp"
 #include "formats/ros_sensor_frames.hpp"
 #include "support/cdr_writer.hpp"
+#include "support/point_cloud_expectations.hpp"
 
 namespace fusecal {
 namespace {
@@ -251,13 +252,7 @@ RosPointCloud2 LivoxPointCloud2(const RosLivoxCustomMsg& custom, double time_sca
   return msg;
 }
 
-void ExpectSameCloud(const PointCloud& got, const PointCloud& want) {
-  EXPECT_EQ(got.points, want.points);
-  EXPECT_EQ(got.intensity, want.intensity);
-  EXPECT_EQ(got.ring, want.ring);
-  ASSERT_EQ(got.time_offset_s.size(), want.time_offset_s.size());
-  for (size_t i = 0; i < got.time_offset_s.size(); ++i) EXPECT_NEAR(got.time_offset_s[i], want.time_offset_s[i], 1e-6);
-}
+using testing_utils::ExpectSameCloud;
 
 TEST(LivoxPointCloud2, GivesWhatTheCustomMsgOfTheSameScanGives) {
   const RosLivoxCustomMsg custom = SampleCustomMsg();

@@ -15,6 +15,7 @@
 #include "importers/rosbag.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
+#include "support/point_cloud_expectations.hpp"
 
 namespace fusecal {
 namespace {
@@ -87,13 +88,7 @@ std::vector<PointCloud> ExpectedClouds() {
   return clouds;
 }
 
-void ExpectSameCloud(const PointCloud& got, const PointCloud& want) {
-  EXPECT_EQ(got.points, want.points);
-  EXPECT_EQ(got.intensity, want.intensity);
-  EXPECT_EQ(got.ring, want.ring);
-  ASSERT_EQ(got.time_offset_s.size(), want.time_offset_s.size());
-  for (size_t i = 0; i < got.time_offset_s.size(); ++i) EXPECT_NEAR(got.time_offset_s[i], want.time_offset_s[i], 1e-6);
-}
+using testing_utils::ExpectSameCloud;
 
 class LivoxReference : public ::testing::TestWithParam<std::string> {};
 
