@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""The table of tools/bench-ros2: per run (peer and QoS) what reached fusecal-ros2-input and how fast,
-and every stage's realtime factor beside the live replay of the same log.
+"""The table of tools/bench-ros2: per run (peer, QoS and bus) what reached fusecal-ros2-input and how fast,
+when the last EXTRINSIC came after the peer's last sample (both on this host's clock), and every stage's
+realtime factor beside the live replay of the same log.
 
 Usage: ros2_bench_table.py WORK_DIR OUT_CSV RUN...   (WORK_DIR/RUN/ is a `fusecal run --ros2` output
 folder, WORK_DIR/RUN.play.json what the peer published, WORK_DIR/replay/ the baseline)."""
@@ -39,14 +40,24 @@ def result_line(text_file):
 
 
 def published(play_json):
+    """Images and clouds the peer published, and when its last sample left (unix seconds)."""
     try:
         with open(play_json) as f:
-            counts = json.loads(f.read().strip().splitlines()[-1])["published"]
+            line = json.loads(f.read().strip().splitlines()[-1])
+        counts = line["published"]
     except (OSError, ValueError, KeyError, IndexError):
-        return None, None
+        return None, None, None
     images = sum(n for topic, n in counts.items() if "image" in topic)
     clouds = sum(n for topic, n in counts.items() if "points" in topic)
-    return images, clouds
+    return images, clouds, line.get("end_unix_s")
+
+
+def last_answer_utime(session_log):
+    """When the run logged its last EXTRINSIC (the session log's receive time, microseconds since 1970)."""
+    dump = subprocess.run(["build/bin/fusecal", "log", "dump", session_log, "--channel", "^EXTRINSIC$"],
+                          capture_output=True, text=True, check=False).stdout
+    lines = [line for line in dump.splitlines() if line.strip()]
+    return json.loads(lines[-1])["utime"] if lines else None
 
 
 def main():
@@ -55,7 +66,8 @@ def main():
     rows, factors = [], {"replay (log, live)": replay}
     for run in runs:
         c = ros2_input_counters(os.path.join(work, run, "session.lcmlog"))
-        images, clouds = published(os.path.join(work, run + ".play.json"))
+        images, clouds, end_unix_s = published(os.path.join(work, run + ".play.json"))
+        last = last_answer_utime(os.path.join(work, run, "session.lcmlog"))
         row = {
             "run": run,
             "images_published": images, "images_received": int(c.get("image_received", 0)),
@@ -66,6 +78,7 @@ def main():
             "cloud_latency_max_ms": 1000 * c.get("cloud_latency_max_s", float("nan")),
             "judged_lost": int(c.get("image_lost", 0) + c.get("cloud_lost", 0)),
             "malformed": int(c.get("image_malformed", 0) + c.get("cloud_malformed", 0)),
+            "last_answer_after_stream_s": (last * 1e-6 - end_unix_s) if last and end_unix_s else float("nan"),
             "result": result_line(os.path.join(work, run + ".txt")),
         }
         rows.append(row)
@@ -78,14 +91,15 @@ def main():
     def fraction(received, sent):
         return f"{received}/{sent} ({100.0 * received / sent:.1f} %)" if sent else f"{received}/?"
 
-    print("| peer, QoS | images delivered | clouds delivered | image latency mean / max (ms) | "
-          "cloud latency mean / max (ms) | judged lost | result |")
-    print("|---|---:|---:|---:|---:|---:|---|")
+    print("| peer, QoS, bus | images delivered | clouds delivered | image latency mean / max (ms) | "
+          "cloud latency mean / max (ms) | judged lost | last answer after the stream (s) | result |")
+    print("|---|---:|---:|---:|---:|---:|---:|---|")
     for r in rows:
         print(f"| {r['run']} | {fraction(r['images_received'], r['images_published'])} | "
               f"{fraction(r['clouds_received'], r['clouds_published'])} | "
               f"{r['image_latency_mean_ms']:.1f} / {r['image_latency_max_ms']:.1f} | "
-              f"{r['cloud_latency_mean_ms']:.1f} / {r['cloud_latency_max_ms']:.1f} | {r['judged_lost']} | {r['result']} |")
+              f"{r['cloud_latency_mean_ms']:.1f} / {r['cloud_latency_max_ms']:.1f} | {r['judged_lost']} | "
+              f"{r['last_answer_after_stream_s']:.2f} | {r['result']} |")
     print()
     stages = sorted({s for f in factors.values() for s in f})
     print("| realtime factor (busy / stream time) | " + " | ".join(factors) + " |")

@@ -177,10 +177,12 @@ int Play(const PlayOptions& options) {
     }
     player.Send(*event);
   }
+  // When the last sample left, on the host's clock (the time the stream ended, for a benchmark).
+  const double end_unix_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   std::string late;
   const bool acknowledged = player.WaitForAcknowledgments(10, &late);
-  std::printf("{\"published\": %s, \"seconds\": %.3f}\n", player.Json().c_str(),
-              std::chrono::duration<double>(Clock::now() - start).count());
+  std::printf("{\"published\": %s, \"seconds\": %.3f, \"end_unix_s\": %.3f}\n", player.Json().c_str(),
+              std::chrono::duration<double>(Clock::now() - start).count(), end_unix_s);
   std::fflush(stdout);
   if (!acknowledged) {
     std::fprintf(stderr, "fastdds_ros2_peer: samples on %s were not acknowledged within 10 s\n", late.c_str());

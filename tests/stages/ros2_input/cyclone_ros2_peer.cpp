@@ -217,9 +217,11 @@ int Play(const std::string& log, int domain, double speed, bool compressed, bool
                                     std::chrono::microseconds(static_cast<int64_t>((event->utime - first) / speed)));
     player.Send(*event);
   }
+  // When the last sample left, on the host's clock (the time the stream ended, for a benchmark).
+  const double end_unix_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // let the last samples leave
-  std::printf("{\"published\": %s, \"seconds\": %.3f}\n", player.Json().c_str(),
-              std::chrono::duration<double>(Clock::now() - start).count());
+  std::printf("{\"published\": %s, \"seconds\": %.3f, \"end_unix_s\": %.3f}\n", player.Json().c_str(),
+              std::chrono::duration<double>(Clock::now() - start).count(), end_unix_s);
   dds_delete(participant);
   return 0;
 }
