@@ -25,77 +25,11 @@ float FastAtan2(float y, float x) {
   if (x < 0.0f) a = kPi - a;
   return y < 0.0f ? -a : a;
 }
-}  // namespace
 
-bool RingsAreBeams(const PointCloud& cloud, const LidarChangeSettings& settings) {
-  const size_t n = cloud.size();
-  if (cloud.ring.size() != n || n == 0) return false;
-  struct Moments {
-    double n = 0, sum = 0, sum_sq = 0;
-  };
-  std::vector<Moments> rings(static_cast<size_t>(std::max(settings.max_rings, 0)));
-  for (size_t i = 0; i < n; ++i) {
-    const int16_t ring = cloud.ring[i];
-    if (ring < 0 || ring >= settings.max_rings) return false;
-    const Eigen::Vector3f& p = cloud.points[i];
-    const float r = p.norm();
-    if (!p.allFinite() || !(r >= settings.min_range_m && r <= settings.max_range_m && r > 0.0f)) continue;
-    const double elevation_deg = std::asin(std::clamp(p.z() / r, -1.0f, 1.0f)) * kRadToDeg;
-    Moments& m = rings[static_cast<size_t>(ring)];
-    m.n += 1;
-    m.sum += elevation_deg;
-    m.sum_sq += elevation_deg * elevation_deg;
-  }
-  for (const Moments& m : rings) {
-    if (m.n < 2) continue;
-    const double mean = m.sum / m.n;
-    if (std::sqrt(std::max(0.0, m.sum_sq / m.n - mean * mean)) > settings.max_ring_elevation_std_deg) return false;
-  }
-  return true;
+// Elevation of p, at range r > 0, in degrees.
+float ElevationDeg(const Eigen::Vector3f& p, float r) {
+  return std::asin(std::clamp(p.z() / r, -1.0f, 1.0f)) * kRadToDeg;
 }
-
-namespace {
-
-RangeImage BuildRangeImageRows(const PointCloud& cloud, const LidarChangeSettings& settings, bool by_ring) {
-  RangeImage img;
-  const size_t n = cloud.size();
-  img.by_ring = by_ring;
-  img.cols = std::max(1, static_cast<int>(std::lround(360.0 / settings.azimuth_bin_deg)));
-  img.rows =
-      by_ring ? settings.max_rings : std::max(1, static_cast<int>(std::lround(180.0 / settings.elevation_bin_deg)));
-  img.range.assign(static_cast<size_t>(img.rows) * img.cols, std::numeric_limits<float>::infinity());
-
-  const float min_r = static_cast<float>(settings.min_range_m), max_r = static_cast<float>(settings.max_range_m);
-  const float col_per_deg = img.cols / 360.0f, row_per_deg = img.rows / 180.0f;
-  for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3f& p = cloud.points[i];
-    if (!p.allFinite()) continue;
-    const float r = p.norm();
-    if (!(r >= min_r && r <= max_r)) continue;
-    int col = static_cast<int>((FastAtan2(p.y(), p.x()) * kRadToDeg + 180.0f) * col_per_deg);
-    col = std::clamp(col, 0, img.cols - 1);
-    int row;
-    if (by_ring) {
-      row = cloud.ring[i];
-    } else {
-      const float elevation_deg = std::asin(std::clamp(p.z() / r, -1.0f, 1.0f)) * kRadToDeg;
-      row = std::clamp(static_cast<int>((90.0f - elevation_deg) * row_per_deg), 0, img.rows - 1);
-    }
-    float& cell = img.range[static_cast<size_t>(row) * img.cols + col];
-    cell = std::min(cell, r);
-    ++img.valid_points;
-  }
-  for (float r : img.range) img.valid_cells += std::isfinite(r) ? 1 : 0;
-  return img;
-}
-
-}  // namespace
-
-RangeImage BuildRangeImage(const PointCloud& cloud, const LidarChangeSettings& settings) {
-  return BuildRangeImageRows(cloud, settings, RingsAreBeams(cloud, settings));
-}
-
-namespace {
 
 float Quantile(std::vector<float>* values, double q) {
   const size_t k = std::min(values->size() - 1, static_cast<size_t>(q * (values->size() - 1) + 0.5));
@@ -127,6 +61,66 @@ std::vector<float> PatchDifferences(const RangeImage& a, const RangeImage& b, co
 }
 
 }  // namespace
+
+bool RingsAreBeams(const PointCloud& cloud, const LidarChangeSettings& settings) {
+  const size_t n = cloud.size();
+  if (cloud.ring.size() != n || n == 0) return false;
+  struct Moments {
+    double n = 0, sum = 0, sum_sq = 0;
+  };
+  std::vector<Moments> rings(static_cast<size_t>(std::max(settings.max_rings, 0)));
+  for (size_t i = 0; i < n; ++i) {
+    const int16_t ring = cloud.ring[i];
+    if (ring < 0 || ring >= settings.max_rings) return false;
+    const Eigen::Vector3f& p = cloud.points[i];
+    const float r = p.norm();
+    if (!p.allFinite() || !(r >= settings.min_range_m && r <= settings.max_range_m && r > 0.0f)) continue;
+    const double elevation_deg = ElevationDeg(p, r);
+    Moments& m = rings[static_cast<size_t>(ring)];
+    m.n += 1;
+    m.sum += elevation_deg;
+    m.sum_sq += elevation_deg * elevation_deg;
+  }
+  for (const Moments& m : rings) {
+    if (m.n < 2) continue;
+    const double mean = m.sum / m.n;
+    if (std::sqrt(std::max(0.0, m.sum_sq / m.n - mean * mean)) > settings.max_ring_elevation_std_deg) return false;
+  }
+  return true;
+}
+
+RangeImage BuildRangeImage(const PointCloud& cloud, const LidarChangeSettings& settings) {
+  RangeImage img;
+  const size_t n = cloud.size();
+  const bool by_ring = RingsAreBeams(cloud, settings);
+  img.by_ring = by_ring;
+  img.cols = std::max(1, static_cast<int>(std::lround(360.0 / settings.azimuth_bin_deg)));
+  img.rows =
+      by_ring ? settings.max_rings : std::max(1, static_cast<int>(std::lround(180.0 / settings.elevation_bin_deg)));
+  img.range.assign(static_cast<size_t>(img.rows) * img.cols, std::numeric_limits<float>::infinity());
+
+  const float min_r = static_cast<float>(settings.min_range_m), max_r = static_cast<float>(settings.max_range_m);
+  const float col_per_deg = img.cols / 360.0f, row_per_deg = img.rows / 180.0f;
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3f& p = cloud.points[i];
+    if (!p.allFinite()) continue;
+    const float r = p.norm();
+    if (!(r >= min_r && r <= max_r)) continue;
+    int col = static_cast<int>((FastAtan2(p.y(), p.x()) * kRadToDeg + 180.0f) * col_per_deg);
+    col = std::clamp(col, 0, img.cols - 1);
+    int row;
+    if (by_ring) {
+      row = cloud.ring[i];
+    } else {
+      row = std::clamp(static_cast<int>((90.0f - ElevationDeg(p, r)) * row_per_deg), 0, img.rows - 1);
+    }
+    float& cell = img.range[static_cast<size_t>(row) * img.cols + col];
+    cell = std::min(cell, r);
+    ++img.valid_points;
+  }
+  for (float r : img.range) img.valid_cells += std::isfinite(r) ? 1 : 0;
+  return img;
+}
 
 LidarChange CompareRangeImages(const RangeImage& a, const RangeImage& b, const LidarChangeSettings& settings) {
   LidarChange out;
