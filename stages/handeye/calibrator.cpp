@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+#include <sstream>
 
 #include "foundation/observed_covariance.hpp"
 #include "handeye/motion_selection.hpp"
@@ -25,12 +25,6 @@ bool CanRefine(const HandEyeResult& r) {
 }
 
 StationPair KeyOf(const SensorMotion& m) { return {m.station_i, m.station_j}; }
-
-std::string ThreeDigits(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", v);
-  return text;
-}
 
 }  // namespace
 
@@ -244,11 +238,17 @@ std::vector<CalibrationVersion> Calibrator::OnFusedMotions(int version, const st
   // Fusion odometry depends on the extrinsic by steps (which tracks see which points), so the alternation
   // can settle into a cycle of two estimates instead of a point: back where it was two iterations ago,
   // with a step below the estimate's std, it has converged as far as the noise can tell.
-  const bool cycle = two_back && below(Difference(result.T_camera_lidar, *two_back), f) && below(change, 1.0);
-  const bool small = below(change, f) || cycle;
-  if (cycle && !below(change, f))
-    note_ = "the alternation settled into a cycle of " + ThreeDigits(change.rotation_rad * 180.0 / M_PI) + " deg / " +
-            ThreeDigits(change.translation_m) + " m between two estimates, within their std";
+  const bool step_small = below(change, f);
+  const bool cycle =
+      !step_small && two_back && below(Difference(result.T_camera_lidar, *two_back), f) && below(change, 1.0);
+  const bool small = step_small || cycle;
+  if (cycle) {
+    std::ostringstream note;
+    note.precision(3);
+    note << "the alternation settled into a cycle of " << change.rotation_rad * 180.0 / M_PI << " deg / "
+         << change.translation_m << " m between two estimates, within their std";
+    note_ = note.str();
+  }
   const bool done = small || iteration_ >= settings_.max_iterations;
   VersionStatus status = VersionStatus::kRefining;
   if (done)
