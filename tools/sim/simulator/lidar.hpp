@@ -51,8 +51,6 @@ class LidarSensor {
   // Seconds after the scan's start at which column c fires.
   double ColumnTime(int column) const { return column / (columns_ * params_.rate_hz); }
   double SweepDuration() const { return 1.0 / params_.rate_hz; }
-  // Unit direction of (beam, column) in the LiDAR frame.
-  Eigen::Vector3f Direction(int beam, int column, int frame = 0) const { return Rays(frame)->Direction(beam, column); }
   const LidarParams& params() const { return params_; }
   int beams() const { return params_.Repetitive() ? grid_->rows() : params_.beams; }
   int columns() const { return columns_; }
