@@ -19,11 +19,13 @@ struct PlayOptions {
   std::string camera_info_topic = "/camera/camera_info";
   double wait_s = 20;
   double settle_s = 3;  // after every topic has a reader, before the first message
+  double loop_s = 0;    // play the log forward and backward until the stream is this long (LoopedRecording)
 };
 
 // Publishes the log's CAMERA_INFO, CAMERA_IMAGE and LIDAR_SCAN as sensor_msgs topics (the scans as
 // Livox's CustomMsg with `livox`) at the recorded pace, once every topic has a matched reader; prints {"published":
-// {topic: n, ...}, "seconds": s}.
+// {topic: n, ...}, "seconds": s, "passes": n, "start_unix_s": .., "first_utime": .., "end_unix_s": ..}
+// (when the first sample with stamp first_utime left and when the last left, on the host's clock).
 int Play(const PlayOptions& options);
 
 // Prints each transform a late-joining reader of rt/tf_static receives, one JSON line each, until

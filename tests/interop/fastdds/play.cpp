@@ -17,6 +17,7 @@
 #include "ros2_fastdds_types.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
+#include "support/looped_recording.hpp"
 
 namespace fusecal::fastdds_peer {
 namespace {
@@ -147,10 +148,12 @@ class Player {
   Stream info_, image_, cloud_;
 };
 
+double UnixNowS() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
+
 }  // namespace
 
 int Play(const PlayOptions& options) {
-  LogReader log(options.log);
+  testing::LoopedRecording log(options.log, options.loop_s);
   FastDdsDomain domain(options.domain);
   Player player(domain, options);
   std::string missing;
@@ -165,11 +168,9 @@ int Play(const PlayOptions& options) {
   // default leaves a margin for a loaded machine.
   std::this_thread::sleep_for(std::chrono::duration<double>(options.settle_s));
   const auto start = Clock::now();
+  const double start_unix_s = UnixNowS();
   int64_t first = -1;
   while (auto event = log.Next()) {
-    if (event->channel != channels::kCameraInfo && event->channel != channels::kCameraImage &&
-        event->channel != channels::kLidarScan)
-      continue;
     if (first < 0) first = event->utime;
     if (options.speed > 0) {
       const auto offset = std::chrono::microseconds(static_cast<int64_t>((event->utime - first) / options.speed));
@@ -178,11 +179,14 @@ int Play(const PlayOptions& options) {
     player.Send(*event);
   }
   // When the last sample left, on the host's clock (the time the stream ended, for a benchmark).
-  const double end_unix_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  const double end_unix_s = UnixNowS();
   std::string late;
   const bool acknowledged = player.WaitForAcknowledgments(10, &late);
-  std::printf("{\"published\": %s, \"seconds\": %.3f, \"end_unix_s\": %.3f}\n", player.Json().c_str(),
-              std::chrono::duration<double>(Clock::now() - start).count(), end_unix_s);
+  std::printf(
+      "{\"published\": %s, \"seconds\": %.3f, \"passes\": %d, \"start_unix_s\": %.3f, \"first_utime\": %lld, "
+      "\"end_unix_s\": %.3f}\n",
+      player.Json().c_str(), std::chrono::duration<double>(Clock::now() - start).count(), log.passes(), start_unix_s,
+      static_cast<long long>(first), end_unix_s);
   std::fflush(stdout);
   if (!acknowledged) {
     std::fprintf(stderr, "fastdds_ros2_peer: samples on %s were not acknowledged within 10 s\n", late.c_str());

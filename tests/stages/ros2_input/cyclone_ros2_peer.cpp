@@ -3,10 +3,11 @@
 // so its readers and writers carry the type information a ROS 2 node on Cyclone carries.
 //
 //   cyclone_ros2_peer play LOG [--domain N] [--speed X] [--compressed] [--reliable] [--wait-s S]
-//       [--image-topic T] [--cloud-topic T] [--camera-info-topic T]
+//       [--image-topic T] [--cloud-topic T] [--camera-info-topic T] [--loop-s S]
 //     publishes the log's CAMERA_IMAGE and LIDAR_SCAN as sensor_msgs topics at recorded pace (stamps from
 //     the log), with the CameraInfo beside every image as camera drivers do, once every topic has a
-//     matched reader; prints what it sent as JSON.
+//     matched reader; with --loop-s, the log forward, then backward, ... until the stream lasts S seconds
+//     (support/looped_recording.hpp). Prints what it sent, and when, as JSON.
 //   cyclone_ros2_peer tf-listen [--domain N] [--timeout S]
 //     a late-joining reader of rt/tf_static (reliable, transient local); prints the transform as JSON.
 #include <CLI/CLI.hpp>
@@ -28,6 +29,7 @@
 #include "ros2_messages.h"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
+#include "support/looped_recording.hpp"
 
 namespace fusecal {
 namespace {
@@ -194,34 +196,45 @@ class Player {
   Writer image_, cloud_, info_;
 };
 
-int Play(const std::string& log, int domain, double speed, bool compressed, bool reliable, double wait_s,
-         const std::string& image_topic, const std::string& cloud_topic, const std::string& info_topic) {
+double UnixNowS() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
+
+struct PlayOptions {
+  std::string log;
+  int domain = 0;
+  double speed = 1, wait_s = 20, loop_s = 0;
+  bool compressed = false, reliable = false;
+  std::string image_topic = "/camera/image_raw", cloud_topic = "/lidar/points", info_topic = "/camera/camera_info";
+};
+
+int Play(const PlayOptions& o) {
+  const int domain = o.domain;
   const dds_entity_t participant = dds_create_participant(static_cast<dds_domainid_t>(domain), nullptr, nullptr);
   if (participant < 0) throw std::runtime_error("cannot join DDS domain " + std::to_string(domain));
-  Player player(participant, reliable, compressed, image_topic, cloud_topic, info_topic);
-  if (!player.WaitForReaders(wait_s)) {
-    std::fprintf(stderr, "cyclone_ros2_peer: no reader matched every topic within %.0f s\n", wait_s);
+  Player player(participant, o.reliable, o.compressed, o.image_topic, o.cloud_topic, o.info_topic);
+  if (!player.WaitForReaders(o.wait_s)) {
+    std::fprintf(stderr, "cyclone_ros2_peer: no reader matched every topic within %.0f s\n", o.wait_s);
     dds_delete(participant);
     return 1;
   }
-  LogReader reader(log);
+  testing::LoopedRecording recording(o.log, o.loop_s);
   const auto start = Clock::now();
+  const double start_unix_s = UnixNowS();
   int64_t first = -1;
-  while (auto event = reader.Next()) {
-    if (event->channel != channels::kCameraInfo && event->channel != channels::kCameraImage &&
-        event->channel != channels::kLidarScan)
-      continue;
+  while (auto event = recording.Next()) {
     if (first < 0) first = event->utime;
-    if (speed > 0)
+    if (o.speed > 0)
       std::this_thread::sleep_until(start +
-                                    std::chrono::microseconds(static_cast<int64_t>((event->utime - first) / speed)));
+                                    std::chrono::microseconds(static_cast<int64_t>((event->utime - first) / o.speed)));
     player.Send(*event);
   }
-  // When the last sample left, on the host's clock (the time the stream ended, for a benchmark).
-  const double end_unix_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  // When the first and the last sample left, on the host's clock (the stream's span, for a benchmark).
+  const double end_unix_s = UnixNowS();
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // let the last samples leave
-  std::printf("{\"published\": %s, \"seconds\": %.3f, \"end_unix_s\": %.3f}\n", player.Json().c_str(),
-              std::chrono::duration<double>(Clock::now() - start).count(), end_unix_s);
+  std::printf(
+      "{\"published\": %s, \"seconds\": %.3f, \"passes\": %d, \"start_unix_s\": %.3f, \"first_utime\": %lld, "
+      "\"end_unix_s\": %.3f}\n",
+      player.Json().c_str(), std::chrono::duration<double>(Clock::now() - start).count(), recording.passes(),
+      start_unix_s, static_cast<long long>(first), end_unix_s);
   dds_delete(participant);
   return 0;
 }
@@ -272,25 +285,25 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   int domain = 0;
   auto* play = app.add_subcommand("play", "publish a log's camera and LiDAR streams as ROS 2 topics");
-  std::string log, image_topic = "/camera/image_raw", cloud_topic = "/lidar/points", info_topic = "/camera/camera_info";
-  double speed = 1, wait_s = 20, timeout_s = 20;
-  bool compressed = false, reliable = false;
-  play->add_option("LOG", log)->required()->check(CLI::ExistingFile);
-  play->add_option("--domain", domain);
-  play->add_option("--speed", speed, "0: as fast as possible");
-  play->add_flag("--compressed", compressed, "CompressedImage on <image-topic>/compressed");
-  play->add_flag("--reliable", reliable, "reliable writers (default: best effort, as sensor drivers)");
-  play->add_option("--wait-s", wait_s, "how long to wait for readers");
-  play->add_option("--image-topic", image_topic);
-  play->add_option("--cloud-topic", cloud_topic);
-  play->add_option("--camera-info-topic", info_topic);
+  fusecal::PlayOptions options;
+  double timeout_s = 20;
+  play->add_option("LOG", options.log)->required()->check(CLI::ExistingFile);
+  play->add_option("--domain", options.domain);
+  play->add_option("--speed", options.speed, "0: as fast as possible");
+  play->add_flag("--compressed", options.compressed, "CompressedImage on <image-topic>/compressed");
+  play->add_flag("--reliable", options.reliable, "reliable writers (default: best effort, as sensor drivers)");
+  play->add_option("--wait-s", options.wait_s, "how long to wait for readers");
+  play->add_option("--image-topic", options.image_topic);
+  play->add_option("--cloud-topic", options.cloud_topic);
+  play->add_option("--camera-info-topic", options.info_topic);
+  play->add_option("--loop-s", options.loop_s,
+                   "play the log forward, then backward, ... until the stream is this long (stamps keep increasing)");
   auto* listen = app.add_subcommand("tf-listen", "print the transform on rt/tf_static (joining late)");
   listen->add_option("--domain", domain);
   listen->add_option("--timeout", timeout_s);
   CLI11_PARSE(app, argc, argv);
   try {
-    if (*play)
-      return fusecal::Play(log, domain, speed, compressed, reliable, wait_s, image_topic, cloud_topic, info_topic);
+    if (*play) return fusecal::Play(options);
     return fusecal::ListenTf(domain, timeout_s);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cyclone_ros2_peer: %s\n", e.what());
