@@ -3,6 +3,9 @@
 when the last EXTRINSIC came after the peer's last sample (both on this host's clock), and every stage's
 realtime factor beside the live replay of the same log.
 
+For a stream of several passes (--minutes), also the first minute against the last: how far stations and
+answers lag behind the stream, and each process's resident memory (WORK_DIR/RUN.memory.csv).
+
 Usage: ros2_bench_table.py WORK_DIR OUT_CSV RUN...   (WORK_DIR/RUN/ is a `fusecal run --ros2` output
 folder, WORK_DIR/RUN.play.json what the peer published, WORK_DIR/replay/ the baseline)."""
 import csv
@@ -39,17 +42,102 @@ def result_line(text_file):
     return "no result"
 
 
-def published(play_json):
-    """Images and clouds the peer published, and when its last sample left (unix seconds)."""
+def play_summary(play_json):
+    """The peer's closing line: what it published and when its first and last sample left."""
     try:
         with open(play_json) as f:
-            line = json.loads(f.read().strip().splitlines()[-1])
-        counts = line["published"]
-    except (OSError, ValueError, KeyError, IndexError):
+            return json.loads(f.read().strip().splitlines()[-1])
+    except (OSError, ValueError, IndexError):
+        return {}
+
+
+def published(play_json):
+    """Images and clouds the peer published, and when its last sample left (unix seconds)."""
+    line = play_summary(play_json)
+    counts = line.get("published")
+    if counts is None:
         return None, None, None
     images = sum(n for topic, n in counts.items() if "image" in topic)
     clouds = sum(n for topic, n in counts.items() if "points" in topic)
     return images, clouds, line.get("end_unix_s")
+
+
+def dump(session_log, channel):
+    out = subprocess.run(["build/bin/fusecal", "log", "dump", session_log, "--channel", channel],
+                         capture_output=True, text=True, check=False).stdout
+    return [json.loads(line) for line in out.splitlines() if line.strip()]
+
+
+def lags(session_log, play):
+    """(stream time, lag) of every STATION and every EXTRINSIC, in seconds: how long after the end of its
+    stop, as the peer published it (first_utime left at start_unix_s, at recorded pace), the station reached
+    the session log, and an answer after the end of the newest stop it used."""
+    start, first = play["start_unix_s"], play["first_utime"]
+
+    def wall(stamp_utime):
+        return start + (stamp_utime - first) * 1e-6
+
+    stop_end = {}
+    station_lags, answer_lags = [], []
+    for event in dump(session_log, "^STATION$"):
+        m = event["msg"]
+        stop_end[m["id"]] = wall(m["still_to_utime"])
+        station_lags.append((stop_end[m["id"]] - start, event["utime"] * 1e-6 - stop_end[m["id"]]))
+    for event in dump(session_log, "^EXTRINSIC$"):
+        used = [stop_end[i] for i in event["msg"].get("used_station_j", []) if i in stop_end]
+        if used:
+            newest = max(used)
+            answer_lags.append((newest - start, event["utime"] * 1e-6 - newest))
+    return station_lags, answer_lags
+
+
+def windows(samples, length_s=60.0):
+    """The samples of the first and of the last `length_s` seconds of the stream."""
+    if not samples:
+        return [], []
+    end = max(t for t, _ in samples)
+    return [v for t, v in samples if t < length_s], [v for t, v in samples if t >= end - length_s]
+
+
+def median(values):
+    values = sorted(values)
+    return values[len(values) // 2] if values else float("nan")
+
+
+def memory_windows(memory_csv):
+    """Per process: the most resident memory (MB) in the first and in the last minute."""
+    if not os.path.exists(memory_csv):
+        return {}
+    per_process = {}
+    with open(memory_csv) as f:
+        for row in csv.DictReader(f):
+            per_process.setdefault(row["process"], []).append((float(row["elapsed_s"]), float(row["rss_mb"])))
+    return {p: tuple(max(w, default=float("nan")) for w in windows(samples)) for p, samples in per_process.items()}
+
+
+def print_long_stream(work, runs):
+    """First minute against last, for the runs whose peer played more than one pass."""
+    long_runs = [r for r in runs if play_summary(os.path.join(work, r + ".play.json")).get("passes", 1) > 1]
+    if not long_runs:
+        return
+    print()
+    print("| run, stream length | lag of stations, first / last minute: median, max (s) | "
+          "lag of answers, first / last minute: median, max (s) | resident memory, first / last minute (MB) |")
+    print("|---|---|---|---|")
+    for run in long_runs:
+        play = play_summary(os.path.join(work, run + ".play.json"))
+        station_lags, answer_lags = lags(os.path.join(work, run, "session.lcmlog"), play)
+
+        def figures(samples):
+            first, last = windows(samples)
+            return (f"{median(first):.2f}, {max(first, default=float('nan')):.2f} / "
+                    f"{median(last):.2f}, {max(last, default=float('nan')):.2f}")
+
+        memory = memory_windows(os.path.join(work, run + ".memory.csv"))
+        memory_text = "; ".join(f"{p.replace('fusecal-', '')} {a:.0f} / {b:.0f}" for p, (a, b) in sorted(memory.items()))
+        length = play["end_unix_s"] - play["start_unix_s"]
+        print(f"| {run}, {length / 60:.1f} min ({play['passes']} passes) | {figures(station_lags)} | "
+              f"{figures(answer_lags)} | {memory_text} |")
 
 
 def last_answer_utime(session_log):
@@ -106,6 +194,7 @@ def main():
     print("|---|" + "---:|" * len(factors))
     for stage in stages:
         print(f"| {stage} | " + " | ".join(f"{f[stage]:.3f}" if stage in f else "-" for f in factors.values()) + " |")
+    print_long_stream(work, runs)
 
 
 if __name__ == "__main__":
