@@ -1,5 +1,7 @@
 #include "fusion_odometry/node/fusion_odometry_node.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <opencv2/core/utility.hpp>
@@ -13,12 +15,24 @@ namespace fusecal {
 
 namespace {
 bool NonNegative(double v) { return std::isfinite(v) && v >= 0; }
+
+// The largest std of a 3x3 block of the extrinsic's covariance (row-major 6x6, rotation first); nan
+// when the block is not a covariance.
+double LargestStd(const double* covariance, int first) {
+  Eigen::Matrix3d block;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) block(r, c) = covariance[(first + r) * 6 + first + c];
+  if (!block.allFinite()) return std::nan("");
+  const double largest = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(block).eigenvalues().maxCoeff();
+  return largest >= 0 ? std::sqrt(largest) : std::nan("");
+}
 }  // namespace
 
 std::string FusionOdometryNodeSettings::Validate() const {
   if (!NonNegative(input_wait_s)) return "input_wait_s: must not be negative";
   if (!NonNegative(reuse_rotation_deg)) return "reuse_rotation_deg: must not be negative";
   if (!NonNegative(reuse_translation_m)) return "reuse_translation_m: must not be negative";
+  if (!NonNegative(reuse_std_fraction) || reuse_std_fraction > 1) return "reuse_std_fraction: must be in [0, 1]";
   return odometry.Validate();
 }
 
@@ -27,6 +41,7 @@ FusionOdometryNodeSettings ReadFusionOdometryNodeSettings(ConfigReader r) {
   r.Get("input_wait_s", &s.input_wait_s);
   r.Get("reuse_rotation_deg", &s.reuse_rotation_deg);
   r.Get("reuse_translation_m", &s.reuse_translation_m);
+  r.Get("reuse_std_fraction", &s.reuse_std_fraction);
   r.Finish();
   r.FailIfInvalid(s.Validate());
   return s;
@@ -98,14 +113,30 @@ motion_t FusionOdometryNode::ComputeMotion(int i, int j, const Isometry3& X, int
   return m;
 }
 
-// A pair whose last motion was computed with an extrinsic within reuse_rotation_deg and
-// reuse_translation_m of X keeps it: a new round starts from the estimate the previous round converged
-// to, which differs from the one its motions were computed with by less than the hand-eye tolerance.
-bool FusionOdometryNode::Reusable(const PairKey& pair, const Isometry3& X) const {
+// An extrinsic within
+// its std of the one a motion was computed with is the same extrinsic as far as the motions can tell:
+// recomputing the motion draws its noise again (which tracks see which points) and adds no information,
+// while an error delta in X moves a fused motion by about delta times the motion's angle and the
+// estimate by less (the alternation contracts: docs/design.md section 4). Without this, each new
+// station in a long session made every held pair computed again, about max_motions of them per station,
+// more than two cores keep pace with.
+ReuseTolerance FusedMotionReuseTolerance(const FusionOdometryNodeSettings& settings, const extrinsic_t& e) {
+  ReuseTolerance tolerance{settings.reuse_rotation_deg, settings.reuse_translation_m};
+  if (settings.reuse_std_fraction <= 0 || e.observability != extrinsic_t::OBSERVABILITY_OK) return tolerance;
+  const double rotation_std_deg = LargestStd(e.covariance, 0) * 180.0 / M_PI;
+  const double translation_std_m = LargestStd(e.covariance, 3);
+  if (std::isfinite(rotation_std_deg) && std::isfinite(translation_std_m)) {
+    tolerance.rotation_deg = std::max(tolerance.rotation_deg, settings.reuse_std_fraction * rotation_std_deg);
+    tolerance.translation_m = std::max(tolerance.translation_m, settings.reuse_std_fraction * translation_std_m);
+  }
+  return tolerance;
+}
+
+bool FusionOdometryNode::Reusable(const PairKey& pair, const Isometry3& X, const ReuseTolerance& tolerance) const {
   const auto last = last_computed_.find(pair);
   if (last == last_computed_.end()) return false;
-  return RotationErrorDeg(X.linear(), last->second.X.linear()) < settings_.reuse_rotation_deg &&
-         (X.translation() - last->second.X.translation()).norm() < settings_.reuse_translation_m;
+  return RotationErrorDeg(X.linear(), last->second.X.linear()) < tolerance.rotation_deg &&
+         (X.translation() - last->second.X.translation()).norm() < tolerance.translation_m;
 }
 
 // The motions of one round are independent (each reads the stations, the LiDAR motions and its own warm
@@ -113,11 +144,12 @@ bool FusionOdometryNode::Reusable(const PairKey& pair, const Isometry3& X) const
 // answer is the same as computed one after the other.
 std::vector<motion_t> FusionOdometryNode::ComputeMotions(const extrinsic_t& extrinsic) {
   const Isometry3 X = FromRowMajor(extrinsic.T_camera_lidar);
+  const ReuseTolerance tolerance = FusedMotionReuseTolerance(settings_, extrinsic);
   std::vector<motion_t> motions(extrinsic.num_used);
   std::vector<int> to_compute;  // indices into the request
   for (int k = 0; k < extrinsic.num_used; ++k) {
     const PairKey pair{extrinsic.used_station_i[k], extrinsic.used_station_j[k]};
-    if (Reusable(pair, X)) {
+    if (Reusable(pair, X, tolerance)) {
       motions[k] = last_computed_.at(pair).motion;
       motions[k].extrinsic_version = extrinsic.version;
       ++reused_;

@@ -25,15 +25,26 @@ struct FusionOdometryNodeSettings {
   fusion_odometry::FusionOdometrySettings odometry;
   double input_wait_s = 2.0;  // how long a request waits for the stations and LiDAR motions it needs
   // A pair keeps its last motion when the extrinsic moved less than this since (0: always recompute);
-  // the hand-eye tolerances by default.
+  // the hand-eye tolerances by default ...
   double reuse_rotation_deg = 1e-3;
   double reuse_translation_m = 1e-4;
+  // ... or less than this fraction of the requesting estimate's own std (rotation and translation, its
+  // largest; only when everything is observable; 0: off).
+  double reuse_std_fraction = 0.5;
 
   // Empty when usable, else what is wrong: a field above (all >= 0), or odometry.Validate()'s message.
   std::string Validate() const;
 };
 
 FusionOdometryNodeSettings ReadFusionOdometryNodeSettings(ConfigReader section);
+
+// How far the extrinsic may have moved since a pair's fused motion was computed for the motion to be kept
+// when `request` asks for it: the fixed reuse tolerances, or reuse_std_fraction of the request's largest
+// std (rotation, translation) when everything is observable and the covariance is one, whichever is larger.
+struct ReuseTolerance {
+  double rotation_deg, translation_m;
+};
+ReuseTolerance FusedMotionReuseTolerance(const FusionOdometryNodeSettings& settings, const extrinsic_t& request);
 
 class FusionOdometryNode : public StageNode {
  public:
@@ -55,7 +66,7 @@ class FusionOdometryNode : public StageNode {
                          fusion_odometry::FusionOdometryResult* result) const;
   std::vector<motion_t> ComputeMotions(const extrinsic_t& extrinsic);
   bool HasInputsFor(const extrinsic_t& extrinsic) const;
-  bool Reusable(const PairKey& pair, const Isometry3& X) const;
+  bool Reusable(const PairKey& pair, const Isometry3& X, const ReuseTolerance& tolerance) const;
   void AnswerPendingIfReady(Bus& bus, bool waited_enough);
   // Drops the stations StationRetention does not keep, and what is cached for their pairs.
   void EvictStations();

@@ -65,6 +65,8 @@ TEST(PipelineConfig, OutOfRangeValuesNameTheKeyAndTheRange) {
       {"fusion_odometry", "input_wait_s: -1", &kFusionOdometry, "'fusion_odometry.input_wait_s' must not be negative"},
       {"fusion_odometry", "reuse_rotation_deg: -1", &kFusionOdometry,
        "'fusion_odometry.reuse_rotation_deg' must not be negative"},
+      {"fusion_odometry", "reuse_std_fraction: 2", &kFusionOdometry,
+       "'fusion_odometry.reuse_std_fraction' must be in [0, 1]"},
       {"handeye", "tolerance_rotation_deg: 0", &kHandEye, "'handeye.tolerance_rotation_deg' must be positive"},
       {"handeye", "max_iterations: 0", &kHandEye, "'handeye.max_iterations' must be in [1, 1000]"},
       {"handeye", "retry_s: -1", &kHandEye, "'handeye.retry_s' must not be negative"},
