@@ -1,4 +1,4 @@
-#include "camera_frontend/bearings.hpp"
+#include "stages/camera_frontend/bearings.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>

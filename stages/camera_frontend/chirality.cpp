@@ -1,4 +1,4 @@
-#include "camera_frontend/chirality.hpp"
+#include "stages/camera_frontend/chirality.hpp"
 
 #include <Eigen/Geometry>
 #include <cmath>

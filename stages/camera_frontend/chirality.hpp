@@ -10,7 +10,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "camera_frontend/bearings.hpp"
+#include "stages/camera_frontend/bearings.hpp"
 
 namespace fusecal::camera_frontend {
 

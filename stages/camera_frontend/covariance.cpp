@@ -1,4 +1,4 @@
-#include "camera_frontend/covariance.hpp"
+#include "stages/camera_frontend/covariance.hpp"
 
 #include <ceres/ceres.h>
 

@@ -1,11 +1,11 @@
-#include "camera_frontend/epipolar_refinement.hpp"
+#include "stages/camera_frontend/epipolar_refinement.hpp"
 
 #include <ceres/ceres.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "camera_frontend/covariance.hpp"
+#include "stages/camera_frontend/covariance.hpp"
 
 namespace fusecal::camera_frontend {
 

@@ -9,8 +9,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "camera_frontend/bearings.hpp"
-#include "foundation/se3.hpp"
+#include "stages/camera_frontend/bearings.hpp"
+#include "stages/foundation/se3.hpp"
 
 namespace fusecal::camera_frontend {
 

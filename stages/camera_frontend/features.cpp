@@ -1,4 +1,4 @@
-#include "camera_frontend/features.hpp"
+#include "stages/camera_frontend/features.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -7,7 +7,7 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "camera_frontend/masks.hpp"
+#include "stages/camera_frontend/masks.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "camera_frontend/five_point_ransac.hpp"
+#include "stages/camera_frontend/five_point_ransac.hpp"
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
@@ -12,7 +12,7 @@
 #include <opengv/sac_problems/relative_pose/RotationOnlySacProblem.hpp>
 #include <random>
 
-#include "camera_frontend/chirality.hpp"
+#include "stages/camera_frontend/chirality.hpp"
 
 namespace fusecal::camera_frontend {
 

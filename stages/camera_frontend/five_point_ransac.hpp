@@ -15,8 +15,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "camera_frontend/bearings.hpp"
-#include "camera_frontend/settings.hpp"
+#include "stages/camera_frontend/bearings.hpp"
+#include "stages/camera_frontend/settings.hpp"
 
 namespace fusecal::camera_frontend {
 

@@ -1,4 +1,4 @@
-#include "camera_frontend/masks.hpp"
+#include "stages/camera_frontend/masks.hpp"
 
 #include <cmath>
 #include <opencv2/imgproc.hpp>

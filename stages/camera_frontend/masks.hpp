@@ -4,8 +4,8 @@
 
 #include <opencv2/core.hpp>
 
-#include "camera_frontend/settings.hpp"
-#include "foundation/camera_model.hpp"
+#include "stages/camera_frontend/settings.hpp"
+#include "stages/foundation/camera_model.hpp"
 
 namespace fusecal::camera_frontend {
 

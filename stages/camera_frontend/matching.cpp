@@ -1,4 +1,4 @@
-#include "camera_frontend/matching.hpp"
+#include "stages/camera_frontend/matching.hpp"
 
 #include <cstdint>
 #include <cstring>

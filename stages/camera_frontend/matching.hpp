@@ -4,7 +4,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "camera_frontend/settings.hpp"
+#include "stages/camera_frontend/settings.hpp"
 
 namespace fusecal::camera_frontend {
 

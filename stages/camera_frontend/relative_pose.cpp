@@ -1,4 +1,4 @@
-#include "camera_frontend/relative_pose.hpp"
+#include "stages/camera_frontend/relative_pose.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -7,12 +7,12 @@
 #include <exception>
 #include <sstream>
 
-#include "camera_frontend/bearings.hpp"
-#include "camera_frontend/chirality.hpp"
-#include "camera_frontend/epipolar_refinement.hpp"
-#include "camera_frontend/five_point_ransac.hpp"
-#include "camera_frontend/matching.hpp"
-#include "camera_frontend/rotation_only.hpp"
+#include "stages/camera_frontend/bearings.hpp"
+#include "stages/camera_frontend/chirality.hpp"
+#include "stages/camera_frontend/epipolar_refinement.hpp"
+#include "stages/camera_frontend/five_point_ransac.hpp"
+#include "stages/camera_frontend/matching.hpp"
+#include "stages/camera_frontend/rotation_only.hpp"
 
 namespace fusecal {
 

@@ -20,11 +20,11 @@
 #include <string>
 #include <vector>
 
-#include "camera_frontend/features.hpp"
-#include "camera_frontend/settings.hpp"
-#include "foundation/camera_model.hpp"
-#include "foundation/se3.hpp"
-#include "foundation/stage_result.hpp"
+#include "stages/camera_frontend/features.hpp"
+#include "stages/camera_frontend/settings.hpp"
+#include "stages/foundation/camera_model.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/foundation/stage_result.hpp"
 
 namespace fusecal {
 

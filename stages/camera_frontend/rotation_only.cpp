@@ -1,4 +1,4 @@
-#include "camera_frontend/rotation_only.hpp"
+#include "stages/camera_frontend/rotation_only.hpp"
 
 #include <ceres/ceres.h>
 
@@ -6,8 +6,8 @@
 #include <Eigen/SVD>
 #include <cmath>
 
-#include "camera_frontend/covariance.hpp"
-#include "foundation/se3.hpp"
+#include "stages/camera_frontend/covariance.hpp"
+#include "stages/foundation/se3.hpp"
 
 namespace fusecal::camera_frontend {
 

@@ -1,4 +1,4 @@
-#include "camera_frontend/settings.hpp"
+#include "stages/camera_frontend/settings.hpp"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "formats/camera_file.hpp"
+#include "stages/formats/camera_file.hpp"
 
 #include <sstream>
 #include <vector>

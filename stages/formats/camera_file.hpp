@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "foundation/camera_model.hpp"
+#include "stages/foundation/camera_model.hpp"
 
 namespace fusecal {
 

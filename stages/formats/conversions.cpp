@@ -1,9 +1,9 @@
-#include "formats/conversions.hpp"
+#include "stages/formats/conversions.hpp"
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "formats/image_header.hpp"
+#include "stages/formats/image_header.hpp"
 
 namespace fusecal {
 

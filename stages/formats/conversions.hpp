@@ -7,12 +7,12 @@
 #include <stdexcept>
 #include <string>
 
-#include "foundation/camera_model.hpp"
-#include "foundation/point_cloud.hpp"
-#include "foundation/se3.hpp"
 #include "fusecal/camera_info_t.hpp"
 #include "fusecal/image_t.hpp"
 #include "fusecal/point_cloud_t.hpp"
+#include "stages/foundation/camera_model.hpp"
+#include "stages/foundation/point_cloud.hpp"
+#include "stages/foundation/se3.hpp"
 
 namespace fusecal {
 

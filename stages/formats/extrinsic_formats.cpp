@@ -1,4 +1,4 @@
-#include "formats/extrinsic_formats.hpp"
+#include "stages/formats/extrinsic_formats.hpp"
 
 #include <algorithm>
 #include <nlohmann/json.hpp>

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "formats/result_file.hpp"
+#include "stages/formats/result_file.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "formats/extrinsic_status.hpp"
+#include "stages/formats/extrinsic_status.hpp"
 
 #include <algorithm>
 

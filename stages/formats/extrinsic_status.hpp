@@ -7,8 +7,8 @@
 #include <optional>
 #include <string>
 
-#include "foundation/extrinsic_verdict.hpp"
 #include "fusecal/extrinsic_t.hpp"
+#include "stages/foundation/extrinsic_verdict.hpp"
 
 namespace fusecal {
 

@@ -1,12 +1,12 @@
-#include "formats/ground_truth.hpp"
+#include "stages/formats/ground_truth.hpp"
 
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-#include "formats/result_file.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
+#include "stages/formats/result_file.hpp"
 
 namespace fusecal {
 

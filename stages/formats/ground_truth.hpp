@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "foundation/se3.hpp"
 #include "fusecal/ground_truth_t.hpp"
+#include "stages/foundation/se3.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "formats/image_header.hpp"
+#include "stages/formats/image_header.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "formats/livox_conversions.hpp"
+#include "stages/formats/livox_conversions.hpp"
 
 #include <stdexcept>
 #include <string>

@@ -3,8 +3,8 @@
 // std::runtime_error saying what is wrong with the message.
 #pragma once
 
-#include "formats/ros_sensor_messages.hpp"
-#include "foundation/point_cloud.hpp"
+#include "stages/formats/ros_sensor_messages.hpp"
+#include "stages/foundation/point_cloud.hpp"
 
 namespace fusecal {
 

@@ -1,6 +1,6 @@
-#include "formats/message_json.hpp"
+#include "stages/formats/message_json.hpp"
 
-#include "formats/extrinsic_status.hpp"
+#include "stages/formats/extrinsic_status.hpp"
 
 #include <cstring>
 #include <functional>

@@ -1,6 +1,6 @@
-#include "formats/motion_message.hpp"
+#include "stages/formats/motion_message.hpp"
 
-#include "formats/conversions.hpp"
+#include "stages/formats/conversions.hpp"
 
 namespace fusecal {
 

@@ -3,8 +3,8 @@
 
 #include <string>
 
-#include "foundation/se3.hpp"
 #include "fusecal/motion_t.hpp"
+#include "stages/foundation/se3.hpp"
 
 namespace fusecal {
 

@@ -1,6 +1,6 @@
-#include "formats/result_file.hpp"
+#include "stages/formats/result_file.hpp"
 
-#include "foundation/extrinsic_error.hpp"
+#include "stages/foundation/extrinsic_error.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -8,9 +8,9 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "foundation/observed_covariance.hpp"
 #include "runtime/output_file.hpp"
 #include "runtime/strict_yaml.hpp"
+#include "stages/foundation/observed_covariance.hpp"
 
 namespace fusecal {
 

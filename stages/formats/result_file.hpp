@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "foundation/se3.hpp"
+#include "stages/foundation/se3.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "formats/ros1_serialized.hpp"
+#include "stages/formats/ros1_serialized.hpp"
 
 #include <cstring>
 #include <stdexcept>

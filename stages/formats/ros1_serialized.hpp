@@ -11,7 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "formats/ros_sensor_messages.hpp"
+#include "stages/formats/ros_sensor_messages.hpp"
 
 namespace fusecal {
 

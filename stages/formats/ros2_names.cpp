@@ -1,4 +1,4 @@
-#include "formats/ros2_names.hpp"
+#include "stages/formats/ros2_names.hpp"
 
 #include <cctype>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "formats/ros_cdr.hpp"
+#include "stages/formats/ros_cdr.hpp"
 
 #include <cstdio>
 #include <cstring>

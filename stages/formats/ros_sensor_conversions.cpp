@@ -1,4 +1,4 @@
-#include "formats/ros_sensor_conversions.hpp"
+#include "stages/formats/ros_sensor_conversions.hpp"
 
 #include <climits>
 #include <cmath>

@@ -6,9 +6,9 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-#include "formats/ros_sensor_messages.hpp"
-#include "foundation/camera_model.hpp"
-#include "foundation/point_cloud.hpp"
+#include "stages/formats/ros_sensor_messages.hpp"
+#include "stages/foundation/camera_model.hpp"
+#include "stages/foundation/point_cloud.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "formats/ros_sensor_encode.hpp"
+#include "stages/formats/ros_sensor_encode.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "formats/ros_sensor_messages.hpp"
-#include "foundation/camera_model.hpp"
-#include "foundation/point_cloud.hpp"
+#include "stages/formats/ros_sensor_messages.hpp"
+#include "stages/foundation/camera_model.hpp"
+#include "stages/foundation/point_cloud.hpp"
 
 namespace fusecal {
 

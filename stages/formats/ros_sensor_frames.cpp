@@ -1,9 +1,9 @@
-#include "formats/ros_sensor_frames.hpp"
+#include "stages/formats/ros_sensor_frames.hpp"
 
 #include <stdexcept>
 #include <utility>
 
-#include "formats/livox_conversions.hpp"
+#include "stages/formats/livox_conversions.hpp"
 
 namespace fusecal {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "formats/ros_sensor_conversions.hpp"
+#include "stages/formats/ros_sensor_conversions.hpp"
 
 namespace fusecal {
 

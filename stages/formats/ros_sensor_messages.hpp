@@ -1,5 +1,5 @@
 // The ROS sensor messages fusecal reads, as plain structs without ROS: one shape for ROS 1 bags (filled
-// from sensor_msgs by tools/io/importers/ros_messages.hpp), ROS 2 bags and DDS (decoded from CDR by
+// from sensor_msgs by runtime/io/importers/ros_messages.hpp), ROS 2 bags and DDS (decoded from CDR by
 // ros_cdr.hpp). ros_sensor_conversions.hpp turns them into fusecal's types. Field names and order follow
 // the message definitions; the ROS 1 capitals D, K, R, P stand for ROS 2's d, k, r, p.
 #pragma once

@@ -7,7 +7,7 @@
 
 #include <Eigen/Geometry>
 
-#include "foundation/se3.hpp"
+#include "stages/foundation/se3.hpp"
 
 namespace fusecal {
 

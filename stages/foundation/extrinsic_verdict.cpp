@@ -1,4 +1,4 @@
-#include "foundation/extrinsic_verdict.hpp"
+#include "stages/foundation/extrinsic_verdict.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "foundation/observed_covariance.hpp"
+#include "stages/foundation/observed_covariance.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <cmath>

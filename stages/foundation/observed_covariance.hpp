@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "foundation/se3.hpp"
+#include "stages/foundation/se3.hpp"
 
 namespace fusecal {
 

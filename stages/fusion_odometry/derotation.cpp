@@ -1,4 +1,4 @@
-#include "fusion_odometry/derotation.hpp"
+#include "stages/fusion_odometry/derotation.hpp"
 
 #include <algorithm>
 #include <cmath>

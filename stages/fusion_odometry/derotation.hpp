@@ -14,7 +14,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "foundation/camera_model.hpp"
+#include "stages/foundation/camera_model.hpp"
 
 namespace fusecal::fusion_odometry {
 

@@ -1,4 +1,4 @@
-#include "fusion_odometry/fusion_odometry.hpp"
+#include "stages/fusion_odometry/fusion_odometry.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -6,12 +6,12 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
-#include "fusion_odometry/derotation.hpp"
-#include "fusion_odometry/klt_tracking.hpp"
-#include "fusion_odometry/p3p_ransac.hpp"
-#include "fusion_odometry/pose_refinement.hpp"
-#include "fusion_odometry/track_selection.hpp"
-#include "fusion_odometry/visibility.hpp"
+#include "stages/fusion_odometry/derotation.hpp"
+#include "stages/fusion_odometry/klt_tracking.hpp"
+#include "stages/fusion_odometry/p3p_ransac.hpp"
+#include "stages/fusion_odometry/pose_refinement.hpp"
+#include "stages/fusion_odometry/track_selection.hpp"
+#include "stages/fusion_odometry/visibility.hpp"
 
 namespace fusecal::fusion_odometry {
 

@@ -22,12 +22,12 @@
 #include <string>
 #include <vector>
 
-#include "foundation/camera_model.hpp"
-#include "foundation/point_cloud.hpp"
-#include "foundation/se3.hpp"
-#include "foundation/stage_result.hpp"
-#include "fusion_odometry/settings.hpp"
-#include "fusion_odometry/types.hpp"
+#include "stages/foundation/camera_model.hpp"
+#include "stages/foundation/point_cloud.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/foundation/stage_result.hpp"
+#include "stages/fusion_odometry/settings.hpp"
+#include "stages/fusion_odometry/types.hpp"
 
 namespace fusecal::fusion_odometry {
 

@@ -1,4 +1,4 @@
-#include "fusion_odometry/klt_tracking.hpp"
+#include "stages/fusion_odometry/klt_tracking.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -11,7 +11,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "fusion_odometry/settings.hpp"
+#include "stages/fusion_odometry/settings.hpp"
 
 namespace fusecal::fusion_odometry {
 

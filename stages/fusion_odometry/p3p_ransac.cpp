@@ -1,4 +1,4 @@
-#include "fusion_odometry/p3p_ransac.hpp"
+#include "stages/fusion_odometry/p3p_ransac.hpp"
 
 #include <cmath>
 #include <memory>

@@ -10,9 +10,9 @@
 
 #include <vector>
 
-#include "foundation/se3.hpp"
-#include "fusion_odometry/settings.hpp"
-#include "fusion_odometry/types.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/fusion_odometry/settings.hpp"
+#include "stages/fusion_odometry/types.hpp"
 
 namespace fusecal::fusion_odometry {
 

@@ -1,4 +1,4 @@
-#include "fusion_odometry/pose_refinement.hpp"
+#include "stages/fusion_odometry/pose_refinement.hpp"
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>

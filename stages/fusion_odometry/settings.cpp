@@ -1,4 +1,4 @@
-#include "fusion_odometry/settings.hpp"
+#include "stages/fusion_odometry/settings.hpp"
 
 #include <cmath>
 

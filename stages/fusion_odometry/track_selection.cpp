@@ -1,4 +1,4 @@
-#include "fusion_odometry/track_selection.hpp"
+#include "stages/fusion_odometry/track_selection.hpp"
 
 #include <algorithm>
 #include <cmath>

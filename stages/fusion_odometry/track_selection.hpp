@@ -8,10 +8,10 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "foundation/camera_model.hpp"
-#include "fusion_odometry/settings.hpp"
-#include "fusion_odometry/types.hpp"
-#include "fusion_odometry/visibility.hpp"
+#include "stages/foundation/camera_model.hpp"
+#include "stages/fusion_odometry/settings.hpp"
+#include "stages/fusion_odometry/types.hpp"
+#include "stages/fusion_odometry/visibility.hpp"
 
 namespace fusecal::fusion_odometry {
 

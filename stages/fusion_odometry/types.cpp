@@ -1,4 +1,4 @@
-#include "fusion_odometry/types.hpp"
+#include "stages/fusion_odometry/types.hpp"
 
 #include <Eigen/Geometry>
 #include <cmath>

@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "foundation/camera_model.hpp"
+#include "stages/foundation/camera_model.hpp"
 
 namespace fusecal::fusion_odometry {
 

@@ -1,4 +1,4 @@
-#include "fusion_odometry/visibility.hpp"
+#include "stages/fusion_odometry/visibility.hpp"
 
 #include <algorithm>
 #include <cmath>

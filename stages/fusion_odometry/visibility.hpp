@@ -16,11 +16,11 @@
 #include <map>
 #include <vector>
 
-#include "foundation/camera_model.hpp"
-#include "foundation/point_cloud.hpp"
-#include "foundation/se3.hpp"
-#include "fusion_odometry/settings.hpp"
-#include "fusion_odometry/types.hpp"
+#include "stages/foundation/camera_model.hpp"
+#include "stages/foundation/point_cloud.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/fusion_odometry/settings.hpp"
+#include "stages/fusion_odometry/types.hpp"
 
 namespace fusecal::fusion_odometry {
 

@@ -1,11 +1,11 @@
-#include "handeye/calibrator.hpp"
+#include "stages/handeye/calibrator.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
-#include "foundation/observed_covariance.hpp"
-#include "handeye/motion_selection.hpp"
+#include "stages/foundation/observed_covariance.hpp"
+#include "stages/handeye/motion_selection.hpp"
 
 namespace fusecal {
 

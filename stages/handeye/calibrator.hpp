@@ -21,8 +21,8 @@
 #include <utility>
 #include <vector>
 
-#include "handeye/change_detection.hpp"
-#include "handeye/handeye_solver.hpp"
+#include "stages/handeye/change_detection.hpp"
+#include "stages/handeye/handeye_solver.hpp"
 
 namespace fusecal {
 

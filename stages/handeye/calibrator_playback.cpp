@@ -1,4 +1,4 @@
-#include "handeye/calibrator_playback.hpp"
+#include "stages/handeye/calibrator_playback.hpp"
 
 #include <map>
 

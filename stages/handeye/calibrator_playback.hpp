@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "handeye/calibrator.hpp"
+#include "stages/handeye/calibrator.hpp"
 
 namespace fusecal {
 

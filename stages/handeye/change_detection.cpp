@@ -1,4 +1,4 @@
-#include "handeye/change_detection.hpp"
+#include "stages/handeye/change_detection.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "handeye/pair_model.hpp"
+#include "stages/handeye/pair_model.hpp"
 
 namespace fusecal {
 

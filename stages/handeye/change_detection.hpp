@@ -53,7 +53,7 @@
 #include <utility>
 #include <vector>
 
-#include "handeye/handeye_types.hpp"
+#include "stages/handeye/handeye_types.hpp"
 
 namespace fusecal {
 

@@ -1,10 +1,10 @@
-#include "handeye/global_scale.hpp"
+#include "stages/handeye/global_scale.hpp"
 
 #include <Eigen/Dense>
 #include <cmath>
 #include <sstream>
 
-#include "handeye/handeye_solver.hpp"
+#include "stages/handeye/handeye_solver.hpp"
 
 namespace fusecal {
 namespace {

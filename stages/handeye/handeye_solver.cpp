@@ -1,22 +1,22 @@
-#include "handeye/handeye_solver.hpp"
+#include "stages/handeye/handeye_solver.hpp"
 
 #include <cmath>
 #include <exception>
 #include <limits>
 #include <sstream>
 
-#include "foundation/observed_covariance.hpp"
-#include "handeye/observability.hpp"
-#include "handeye/outlier_rejection.hpp"
-#include "handeye/pair_model.hpp"
-#include "handeye/refinement.hpp"
-#include "handeye/rotation_noise.hpp"
-#include "handeye/rotation_solver.hpp"
-#include "handeye/screening.hpp"
-#include "handeye/serial_correlation.hpp"
-#include "handeye/shared_error.hpp"
-#include "handeye/translation_solver.hpp"
-#include "handeye/travel_direction.hpp"
+#include "stages/foundation/observed_covariance.hpp"
+#include "stages/handeye/observability.hpp"
+#include "stages/handeye/outlier_rejection.hpp"
+#include "stages/handeye/pair_model.hpp"
+#include "stages/handeye/refinement.hpp"
+#include "stages/handeye/rotation_noise.hpp"
+#include "stages/handeye/rotation_solver.hpp"
+#include "stages/handeye/screening.hpp"
+#include "stages/handeye/serial_correlation.hpp"
+#include "stages/handeye/shared_error.hpp"
+#include "stages/handeye/translation_solver.hpp"
+#include "stages/handeye/travel_direction.hpp"
 
 namespace fusecal {
 namespace {

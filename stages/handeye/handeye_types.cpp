@@ -1,4 +1,4 @@
-#include "handeye/handeye_types.hpp"
+#include "stages/handeye/handeye_types.hpp"
 
 #include <cmath>
 #include <sstream>

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "foundation/extrinsic_verdict.hpp"
-#include "foundation/se3.hpp"
-#include "foundation/stage_result.hpp"
+#include "stages/foundation/extrinsic_verdict.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/foundation/stage_result.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "handeye/handheld_motions.hpp"
+#include "stages/handeye/handheld_motions.hpp"
 
 #include <algorithm>
 #include <cmath>

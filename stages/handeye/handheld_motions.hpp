@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "handeye/handeye_types.hpp"
+#include "stages/handeye/handeye_types.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "handeye/motion_selection.hpp"
+#include "stages/handeye/motion_selection.hpp"
 
 #include <Eigen/Cholesky>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "handeye/observability.hpp"
+#include "stages/handeye/observability.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>

@@ -16,10 +16,10 @@
 
 #include <Eigen/Core>
 
-#include "handeye/handeye_types.hpp"
-#include "handeye/pair_model.hpp"
-#include "handeye/serial_correlation.hpp"
-#include "handeye/translation_solver.hpp"
+#include "stages/handeye/handeye_types.hpp"
+#include "stages/handeye/pair_model.hpp"
+#include "stages/handeye/serial_correlation.hpp"
+#include "stages/handeye/translation_solver.hpp"
 
 namespace fusecal::handeye {
 

@@ -1,9 +1,9 @@
-#include "handeye/outlier_rejection.hpp"
+#include "stages/handeye/outlier_rejection.hpp"
 
 #include <cmath>
 #include <sstream>
 
-#include "handeye/screening.hpp"
+#include "stages/handeye/screening.hpp"
 
 namespace fusecal::handeye {
 namespace {

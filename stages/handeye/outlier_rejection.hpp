@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include "handeye/handeye_types.hpp"
-#include "handeye/pair_model.hpp"
+#include "stages/handeye/handeye_types.hpp"
+#include "stages/handeye/pair_model.hpp"
 
 namespace fusecal::handeye {
 

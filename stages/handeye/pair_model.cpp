@@ -1,4 +1,4 @@
-#include "handeye/pair_model.hpp"
+#include "stages/handeye/pair_model.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>

@@ -11,8 +11,8 @@
 
 #include <Eigen/Core>
 
-#include "handeye/handeye_types.hpp"
-#include "handeye/rotation_noise.hpp"
+#include "stages/handeye/handeye_types.hpp"
+#include "stages/handeye/rotation_noise.hpp"
 
 namespace fusecal::handeye {
 

@@ -1,4 +1,4 @@
-#include "handeye/refinement.hpp"
+#include "stages/handeye/refinement.hpp"
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>

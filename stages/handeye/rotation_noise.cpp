@@ -1,9 +1,9 @@
-#include "handeye/rotation_noise.hpp"
+#include "stages/handeye/rotation_noise.hpp"
 
 #include <algorithm>
 
-#include "handeye/pair_model.hpp"
-#include "handeye/translation_solver.hpp"
+#include "stages/handeye/pair_model.hpp"
+#include "stages/handeye/translation_solver.hpp"
 
 namespace fusecal::handeye {
 namespace {

@@ -1,4 +1,4 @@
-#include "handeye/rotation_solver.hpp"
+#include "stages/handeye/rotation_solver.hpp"
 
 #include <Eigen/SVD>
 #include <cmath>

@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "handeye/handeye_types.hpp"
+#include "stages/handeye/handeye_types.hpp"
 
 namespace fusecal::handeye {
 

@@ -1,4 +1,4 @@
-#include "handeye/screening.hpp"
+#include "stages/handeye/screening.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "handeye/segmented_solve.hpp"
+#include "stages/handeye/segmented_solve.hpp"
 
 namespace fusecal {
 

@@ -7,8 +7,8 @@
 #include <functional>
 #include <vector>
 
-#include "handeye/change_detection.hpp"
-#include "handeye/handeye_types.hpp"
+#include "stages/handeye/change_detection.hpp"
+#include "stages/handeye/handeye_types.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "handeye/serial_correlation.hpp"
+#include "stages/handeye/serial_correlation.hpp"
 
 #include <cmath>
 

@@ -17,8 +17,8 @@
 
 #include <vector>
 
-#include "handeye/handeye_types.hpp"
-#include "handeye/pair_model.hpp"
+#include "stages/handeye/handeye_types.hpp"
+#include "stages/handeye/pair_model.hpp"
 
 namespace fusecal::handeye {
 

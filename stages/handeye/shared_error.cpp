@@ -1,4 +1,4 @@
-#include "handeye/shared_error.hpp"
+#include "stages/handeye/shared_error.hpp"
 
 #include <Eigen/QR>
 #include <array>

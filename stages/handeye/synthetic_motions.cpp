@@ -1,4 +1,4 @@
-#include "handeye/synthetic_motions.hpp"
+#include "stages/handeye/synthetic_motions.hpp"
 
 #include <cmath>
 

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "handeye/handeye_types.hpp"
+#include "stages/handeye/handeye_types.hpp"
 
 namespace fusecal {
 

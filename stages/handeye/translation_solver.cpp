@@ -1,8 +1,8 @@
-#include "handeye/translation_solver.hpp"
+#include "stages/handeye/translation_solver.hpp"
 
 #include <Eigen/Eigenvalues>
 
-#include "handeye/pair_model.hpp"
+#include "stages/handeye/pair_model.hpp"
 
 namespace fusecal::handeye {
 

@@ -1,4 +1,4 @@
-#include "handeye/travel_direction.hpp"
+#include "stages/handeye/travel_direction.hpp"
 
 #include <Eigen/Geometry>
 #include <cmath>

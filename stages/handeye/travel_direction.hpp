@@ -11,7 +11,7 @@
 
 #include <Eigen/Core>
 
-#include "handeye/handeye_types.hpp"
+#include "stages/handeye/handeye_types.hpp"
 
 namespace fusecal::handeye {
 

@@ -1,4 +1,4 @@
-#include "lidar_icp/consistency.hpp"
+#include "stages/lidar_icp/consistency.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -8,7 +8,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "foundation/se3.hpp"
+#include "stages/foundation/se3.hpp"
 
 namespace fusecal::lidar_icp {
 

@@ -1,4 +1,4 @@
-#include "lidar_icp/covariance.hpp"
+#include "stages/lidar_icp/covariance.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <cmath>

@@ -3,8 +3,8 @@
 // [rotation (rad); translation (m)] of the right perturbation T * Exp(d).
 #pragma once
 
-#include "foundation/se3.hpp"
-#include "lidar_icp/icp.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/lidar_icp/icp.hpp"
 
 namespace fusecal::lidar_icp {
 

@@ -1,4 +1,4 @@
-#include "lidar_icp/distance_field.hpp"
+#include "stages/lidar_icp/distance_field.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "lidar_icp/global_alignment.hpp"
+#include "stages/lidar_icp/global_alignment.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -13,8 +13,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "foundation/se3.hpp"
-#include "lidar_icp/distance_field.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/lidar_icp/distance_field.hpp"
 
 namespace fusecal::lidar_icp {
 

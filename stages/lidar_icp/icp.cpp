@@ -1,4 +1,4 @@
-#include "lidar_icp/icp.hpp"
+#include "stages/lidar_icp/icp.hpp"
 
 #include <Eigen/Cholesky>
 #include <cmath>

@@ -6,8 +6,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "foundation/se3.hpp"
-#include "lidar_icp/preprocess.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/lidar_icp/preprocess.hpp"
 
 namespace fusecal::lidar_icp {
 

@@ -1,4 +1,4 @@
-#include "lidar_icp/preprocess.hpp"
+#include "stages/lidar_icp/preprocess.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>

@@ -7,8 +7,8 @@
 #include <memory>
 #include <vector>
 
-#include "foundation/point_cloud.hpp"
-#include "lidar_icp/kdtree.hpp"
+#include "stages/foundation/point_cloud.hpp"
+#include "stages/lidar_icp/kdtree.hpp"
 
 namespace fusecal::lidar_icp {
 

@@ -1,4 +1,4 @@
-#include "lidar_icp/registration.hpp"
+#include "stages/lidar_icp/registration.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -12,12 +12,12 @@
 #include <omp.h>
 #endif
 
-#include "lidar_icp/consistency.hpp"
-#include "lidar_icp/covariance.hpp"
-#include "lidar_icp/distance_field.hpp"
-#include "lidar_icp/global_alignment.hpp"
-#include "lidar_icp/icp.hpp"
-#include "lidar_icp/preprocess.hpp"
+#include "stages/lidar_icp/consistency.hpp"
+#include "stages/lidar_icp/covariance.hpp"
+#include "stages/lidar_icp/distance_field.hpp"
+#include "stages/lidar_icp/global_alignment.hpp"
+#include "stages/lidar_icp/icp.hpp"
+#include "stages/lidar_icp/preprocess.hpp"
 
 namespace fusecal::lidar_icp {
 namespace {

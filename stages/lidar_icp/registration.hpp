@@ -17,9 +17,9 @@
 
 #include <string>
 
-#include "foundation/point_cloud.hpp"
-#include "foundation/se3.hpp"
-#include "foundation/stage_result.hpp"
+#include "stages/foundation/point_cloud.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/foundation/stage_result.hpp"
 
 namespace fusecal::lidar_icp {
 

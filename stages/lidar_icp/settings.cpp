@@ -1,7 +1,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "lidar_icp/registration.hpp"
+#include "stages/lidar_icp/registration.hpp"
 
 namespace fusecal::lidar_icp {
 namespace {

@@ -15,13 +15,13 @@
 #include <utility>
 #include <vector>
 
-#include "formats/motion_message.hpp"
 #include "fusecal/motion_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/stage_main.hpp"
 #include "runtime/work_stats.hpp"
+#include "stages/formats/motion_message.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "ros2_dds/ros2_domain.hpp"
+#include "stages/ros2_dds/ros2_domain.hpp"
 
 #include <algorithm>
 #include <cstdlib>

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "formats/ros2_names.hpp"
+#include "stages/formats/ros2_names.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "stationarity/image_motion.hpp"
+#include "stages/stationarity/image_motion.hpp"
 
 #include <algorithm>
 #include <cmath>

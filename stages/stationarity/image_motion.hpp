@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "foundation/stage_result.hpp"
-#include "stationarity/settings.hpp"
+#include "stages/foundation/stage_result.hpp"
+#include "stages/stationarity/settings.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "stationarity/range_image.hpp"
+#include "stages/stationarity/range_image.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "foundation/point_cloud.hpp"
-#include "foundation/stage_result.hpp"
-#include "stationarity/settings.hpp"
+#include "stages/foundation/point_cloud.hpp"
+#include "stages/foundation/stage_result.hpp"
+#include "stages/stationarity/settings.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "stationarity/settings.hpp"
+#include "stages/stationarity/settings.hpp"
 
 #include <cmath>
 

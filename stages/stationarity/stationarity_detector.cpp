@@ -1,4 +1,4 @@
-#include "stationarity/stationarity_detector.hpp"
+#include "stages/stationarity/stationarity_detector.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -29,10 +29,10 @@
 #include <utility>
 #include <vector>
 
-#include "foundation/point_cloud.hpp"
-#include "stationarity/image_motion.hpp"
-#include "stationarity/range_image.hpp"
-#include "stationarity/settings.hpp"
+#include "stages/foundation/point_cloud.hpp"
+#include "stages/stationarity/image_motion.hpp"
+#include "stages/stationarity/range_image.hpp"
+#include "stages/stationarity/settings.hpp"
 
 namespace fusecal {
 

@@ -8,11 +8,11 @@
 #include <vector>
 
 #include "dds/ddsi/ddsi_cdrstream.h"
-#include "formats/message_json.hpp"
 #include "fusecal_bytes.h"
 #include "fuzz_entries.hpp"
 #include "fuzz_support.hpp"
 #include "runtime/dds/dds_envelope.hpp"
+#include "stages/formats/message_json.hpp"
 
 namespace fusecal::fuzz {
 

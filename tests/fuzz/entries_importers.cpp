@@ -4,9 +4,9 @@
 
 #include "fuzz_entries.hpp"
 #include "fuzz_support.hpp"
-#include "importers/ishikawa.hpp"
-#include "importers/kitti.hpp"
-#include "scan_io/scan_io.hpp"
+#include "runtime/io/importers/ishikawa.hpp"
+#include "runtime/io/importers/kitti.hpp"
+#include "runtime/io/scan_io/scan_io.hpp"
 
 namespace fusecal::fuzz {
 

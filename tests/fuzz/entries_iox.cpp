@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "formats/message_json.hpp"
 #include "fuzz_entries.hpp"
 #include "fuzz_support.hpp"
 #include "runtime/iox/iox_chunk.hpp"
+#include "stages/formats/message_json.hpp"
 
 namespace fusecal::fuzz {
 

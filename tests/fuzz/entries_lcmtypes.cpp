@@ -3,10 +3,6 @@
 #include <string>
 #include <vector>
 
-#include "formats/conversions.hpp"
-#include "formats/extrinsic_status.hpp"
-#include "formats/message_json.hpp"
-#include "foundation/se3.hpp"
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/ground_truth_t.hpp"
 #include "fusecal/motion_set_t.hpp"
@@ -15,6 +11,10 @@
 #include "fuzz_entries.hpp"
 #include "fuzz_support.hpp"
 #include "runtime/bus.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/extrinsic_status.hpp"
+#include "stages/formats/message_json.hpp"
+#include "stages/foundation/se3.hpp"
 
 namespace fusecal::fuzz {
 

@@ -1,11 +1,11 @@
 // Fuzz entries of LCM logs (fuzz_entries.hpp): the bytes are a whole log file.
 #include <string>
 
-#include "formats/ground_truth.hpp"
-#include "formats/message_json.hpp"
 #include "fuzz_entries.hpp"
 #include "fuzz_support.hpp"
 #include "runtime/lcm_log.hpp"
+#include "stages/formats/ground_truth.hpp"
+#include "stages/formats/message_json.hpp"
 
 namespace fusecal::fuzz {
 

@@ -4,7 +4,7 @@
 
 #include "fuzz_entries.hpp"
 #include "fuzz_support.hpp"
-#include "handeye/node/motion_csv.hpp"
+#include "stages/handeye/node/motion_csv.hpp"
 
 namespace fusecal::fuzz {
 

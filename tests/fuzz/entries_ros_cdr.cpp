@@ -1,12 +1,12 @@
 // Fuzz entries of ROS sensor messages (fuzz_entries.hpp), as a ROS 2 bag or DDS hands them over (CDR)
 // and, for Livox's CustomMsg, as a ROS 1 bag does: decoded (formats/ros_cdr.hpp,
 // formats/ros1_serialized.hpp), then converted as `fusecal import rosbag` converts them.
-#include "formats/livox_conversions.hpp"
-#include "formats/ros1_serialized.hpp"
-#include "formats/ros_cdr.hpp"
-#include "formats/ros_sensor_conversions.hpp"
 #include "fuzz_entries.hpp"
 #include "fuzz_support.hpp"
+#include "stages/formats/livox_conversions.hpp"
+#include "stages/formats/ros1_serialized.hpp"
+#include "stages/formats/ros_cdr.hpp"
+#include "stages/formats/ros_sensor_conversions.hpp"
 
 namespace fusecal::fuzz {
 

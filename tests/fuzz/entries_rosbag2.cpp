@@ -2,7 +2,7 @@
 // read from memory (no scratch file), every message visited in log-time order.
 #include "fuzz_entries.hpp"
 #include "fuzz_support.hpp"
-#include "importers/mcap_reader.hpp"
+#include "runtime/io/importers/mcap_reader.hpp"
 
 namespace fusecal::fuzz {
 

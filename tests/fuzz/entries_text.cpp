@@ -2,12 +2,12 @@
 // extrinsics in the export formats, YAML read strictly.
 #include <string>
 
-#include "formats/extrinsic_formats.hpp"
 #include "fuzz_entries.hpp"
 #include "fuzz_support.hpp"
 #include "runtime/bus_url.hpp"
 #include "runtime/channel_pattern.hpp"
 #include "runtime/strict_yaml.hpp"
+#include "stages/formats/extrinsic_formats.hpp"
 
 namespace fusecal::fuzz {
 

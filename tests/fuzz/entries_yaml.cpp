@@ -1,13 +1,13 @@
 // Fuzz entries of the YAML loaders (fuzz_entries.hpp): the bytes are a whole file.
 #include <string>
 
-#include "formats/camera_file.hpp"
-#include "formats/ground_truth.hpp"
-#include "formats/result_file.hpp"
 #include "fuzz_entries.hpp"
 #include "fuzz_support.hpp"
-#include "pipeline/pipeline_config.hpp"
-#include "simulator/scenario.hpp"
+#include "runtime/pipeline/pipeline_config.hpp"
+#include "runtime/sim/simulator/scenario.hpp"
+#include "stages/formats/camera_file.hpp"
+#include "stages/formats/ground_truth.hpp"
+#include "stages/formats/result_file.hpp"
 
 namespace fusecal::fuzz {
 

@@ -9,16 +9,16 @@
 #include <string>
 #include <vector>
 
-#include "formats/conversions.hpp"
-#include "formats/image_header.hpp"
 #include "fusecal/motion_set_t.hpp"
 #include "fusecal/point_cloud_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "fuzz_support.hpp"
-#include "importers/ishikawa.hpp"
-#include "importers/kitti.hpp"
 #include "runtime/bus.hpp"
-#include "scan_io/scan_io.hpp"
+#include "runtime/io/importers/ishikawa.hpp"
+#include "runtime/io/importers/kitti.hpp"
+#include "runtime/io/scan_io/scan_io.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/image_header.hpp"
 
 namespace fusecal {
 namespace {

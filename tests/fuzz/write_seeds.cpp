@@ -12,20 +12,20 @@
 #include <string>
 #include <vector>
 
-#include "formats/camera_file.hpp"
-#include "formats/conversions.hpp"
-#include "formats/motion_message.hpp"
-#include "formats/result_file.hpp"
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/ground_truth_t.hpp"
 #include "fusecal/motion_set_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "runtime/channels.hpp"
+#include "runtime/io/scan_io/scan_io.hpp"
 #include "runtime/lcm_log.hpp"
-#include "scan_io/scan_io.hpp"
-#include "support/cdr_writer.hpp"
-#include "support/mcap_test_writer.hpp"
+#include "stages/formats/camera_file.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/motion_message.hpp"
+#include "stages/formats/result_file.hpp"
+#include "tests/support/cdr_writer.hpp"
+#include "tests/support/mcap_test_writer.hpp"
 #ifdef FUSECAL_WITH_DDS
 #include "dds/ddsi/ddsi_cdrstream.h"
 #include "fusecal_bytes.h"

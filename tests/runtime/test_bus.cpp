@@ -4,12 +4,12 @@
 #include <chrono>
 #include <fstream>
 
-#include "formats/conversions.hpp"
 #include "fusecal/image_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/channel_pattern.hpp"
-#include "support/sample_messages.hpp"
+#include "stages/formats/conversions.hpp"
+#include "tests/support/sample_messages.hpp"
 
 namespace fusecal {
 namespace {

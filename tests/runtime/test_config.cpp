@@ -105,7 +105,7 @@ TEST(Config, RequiredKeysAndSyntaxErrors) {
 }  // namespace
 }  // namespace fusecal
 
-#include "formats/camera_file.hpp"
+#include "stages/formats/camera_file.hpp"
 
 namespace fusecal {
 namespace {

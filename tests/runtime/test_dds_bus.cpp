@@ -13,13 +13,13 @@
 #include <cstdlib>
 #include <opencv2/core.hpp>
 
-#include "formats/conversions.hpp"
 #include "fusecal/image_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/dds/dds_bus.hpp"
 #include "runtime/shared_memory.hpp"
-#include "support/sample_messages.hpp"
+#include "stages/formats/conversions.hpp"
+#include "tests/support/sample_messages.hpp"
 
 namespace fusecal {
 namespace {

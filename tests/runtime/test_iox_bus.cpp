@@ -14,7 +14,6 @@
 #include <cstdlib>
 #include <opencv2/core.hpp>
 
-#include "formats/conversions.hpp"
 #include "fusecal/image_t.hpp"
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
@@ -22,8 +21,9 @@
 #include "runtime/iox/iox_chunk.hpp"
 #include "runtime/iox/iox_runtime.hpp"
 #include "runtime/shared_memory.hpp"
-#include "support/process_utils.hpp"
-#include "support/sample_messages.hpp"
+#include "stages/formats/conversions.hpp"
+#include "tests/support/process_utils.hpp"
+#include "tests/support/sample_messages.hpp"
 
 namespace fusecal {
 namespace {

@@ -11,7 +11,7 @@
 #include "fusecal/status_t.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/stage_main.hpp"
-#include "support/process_utils.hpp"
+#include "tests/support/process_utils.hpp"
 
 namespace fusecal {
 namespace {

@@ -1,4 +1,4 @@
-#include "support/cdr_writer.hpp"
+#include "tests/support/cdr_writer.hpp"
 
 #include <cstring>
 

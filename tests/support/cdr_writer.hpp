@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "formats/ros_sensor_messages.hpp"
+#include "stages/formats/ros_sensor_messages.hpp"
 
 namespace fusecal::testing_utils {
 

@@ -1,4 +1,4 @@
-#include "support/db3_test_writer.hpp"
+#include "tests/support/db3_test_writer.hpp"
 
 #include <sqlite3.h>
 

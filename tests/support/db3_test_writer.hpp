@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "support/mcap_test_writer.hpp"
+#include "tests/support/mcap_test_writer.hpp"
 
 namespace fusecal::testing {
 

@@ -1,4 +1,4 @@
-#include "support/looped_recording.hpp"
+#include "tests/support/looped_recording.hpp"
 
 #include <algorithm>
 #include <cmath>

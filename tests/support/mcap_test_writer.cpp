@@ -1,4 +1,4 @@
-#include "support/mcap_test_writer.hpp"
+#include "tests/support/mcap_test_writer.hpp"
 
 #include <lz4frame.h>
 #include <zlib.h>

@@ -1,5 +1,5 @@
 // A small MCAP writer for tests (the format: https://mcap.dev/spec), written apart from the reader in
-// tools/io/importers so that each checks the other: chunks uncompressed, zstd or lz4 (frame format), with
+// runtime/io/importers so that each checks the other: chunks uncompressed, zstd or lz4 (frame format), with
 // message indexes, a summary (schemas, channels, statistics, chunk indexes, summary offsets) or none.
 // It also returns where its records are, so that tests can damage them.
 #pragma once

@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "foundation/point_cloud.hpp"
+#include "stages/foundation/point_cloud.hpp"
 
 namespace fusecal::testing_utils {
 

@@ -1,8 +1,8 @@
-#include "support/recorded_bags.hpp"
+#include "tests/support/recorded_bags.hpp"
 
 #include <filesystem>
 
-#include "support/db3_test_writer.hpp"
+#include "tests/support/db3_test_writer.hpp"
 
 namespace fusecal::testing_utils {
 

@@ -7,9 +7,9 @@
 #include <variant>
 #include <vector>
 
-#include "formats/ros_sensor_messages.hpp"
-#include "support/cdr_writer.hpp"
-#include "support/mcap_test_writer.hpp"
+#include "stages/formats/ros_sensor_messages.hpp"
+#include "tests/support/cdr_writer.hpp"
+#include "tests/support/mcap_test_writer.hpp"
 
 namespace fusecal::testing_utils {
 

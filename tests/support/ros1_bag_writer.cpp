@@ -1,4 +1,4 @@
-#include "support/ros1_bag_writer.hpp"
+#include "tests/support/ros1_bag_writer.hpp"
 
 #include <rosbag/bag.h>
 

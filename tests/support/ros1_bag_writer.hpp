@@ -1,5 +1,5 @@
 // The plain ROS sensor messages as ROS 1's sensor_msgs (the inverse of FromRos1 in
-// tools/io/importers/ros_messages.hpp), and a recording written as a ROS 1 bag through rosbag_storage.
+// runtime/io/importers/ros_messages.hpp), and a recording written as a ROS 1 bag through rosbag_storage.
 // Includes ROS 1 headers: only the files that write ROS 1 bags include it.
 #pragma once
 
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "support/recorded_bags.hpp"
+#include "tests/support/recorded_bags.hpp"
 
 namespace fusecal::testing_utils {
 

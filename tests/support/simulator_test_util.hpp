@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "foundation/camera_model.hpp"
-#include "simulator/lidar.hpp"
-#include "simulator/scenario.hpp"
+#include "runtime/sim/simulator/lidar.hpp"
+#include "runtime/sim/simulator/scenario.hpp"
+#include "stages/foundation/camera_model.hpp"
 
 namespace fusecal::sim::test {
 

@@ -17,11 +17,11 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
-#include "formats/ros_sensor_encode.hpp"
-#include "importers/kitti.hpp"
-#include "support/db3_test_writer.hpp"
-#include "support/recorded_bags.hpp"
-#include "support/ros1_bag_writer.hpp"
+#include "runtime/io/importers/kitti.hpp"
+#include "stages/formats/ros_sensor_encode.hpp"
+#include "tests/support/db3_test_writer.hpp"
+#include "tests/support/recorded_bags.hpp"
+#include "tests/support/ros1_bag_writer.hpp"
 
 namespace fusecal {
 namespace {

@@ -1,8 +1,8 @@
-#include "camera_frontend/node/camera_frontend_node.hpp"
+#include "stages/camera_frontend/node/camera_frontend_node.hpp"
 
-#include "formats/conversions.hpp"
-#include "formats/motion_message.hpp"
 #include "runtime/channels.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/motion_message.hpp"
 
 namespace fusecal {
 

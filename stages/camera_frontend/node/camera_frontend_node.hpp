@@ -6,9 +6,9 @@
 
 #include <memory>
 
-#include "camera_frontend/relative_pose.hpp"
-#include "node_kit/station_pair_node.hpp"
 #include "runtime/config_reader.hpp"
+#include "stages/camera_frontend/relative_pose.hpp"
+#include "stages/node_kit/station_pair_node.hpp"
 
 namespace fusecal {
 

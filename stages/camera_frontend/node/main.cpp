@@ -1,4 +1,4 @@
-#include "camera_frontend/node/camera_frontend_node.hpp"
+#include "stages/camera_frontend/node/camera_frontend_node.hpp"
 
 int main(int argc, char** argv) {
   return fusecal::RunStage<fusecal::CameraFrontendNode>(

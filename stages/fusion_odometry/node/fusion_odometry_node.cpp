@@ -1,4 +1,4 @@
-#include "fusion_odometry/node/fusion_odometry_node.hpp"
+#include "stages/fusion_odometry/node/fusion_odometry_node.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -6,10 +6,10 @@
 #include <cmath>
 #include <opencv2/core/utility.hpp>
 
-#include "formats/conversions.hpp"
-#include "formats/motion_message.hpp"
 #include "fusecal/motion_t.hpp"
 #include "runtime/channels.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/motion_message.hpp"
 
 namespace fusecal {
 

@@ -13,11 +13,11 @@
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/motion_set_t.hpp"
 #include "fusecal/station_t.hpp"
-#include "fusion_odometry/fusion_odometry.hpp"
-#include "node_kit/station_retention.hpp"
 #include "runtime/config_reader.hpp"
 #include "runtime/stage_main.hpp"
 #include "runtime/work_stats.hpp"
+#include "stages/fusion_odometry/fusion_odometry.hpp"
+#include "stages/node_kit/station_retention.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "fusion_odometry/node/fusion_odometry_node.hpp"
+#include "stages/fusion_odometry/node/fusion_odometry_node.hpp"
 
 int main(int argc, char** argv) {
   return fusecal::RunStage<fusecal::FusionOdometryNode>(

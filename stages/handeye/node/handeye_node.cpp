@@ -1,10 +1,10 @@
-#include "handeye/node/handeye_node.hpp"
+#include "stages/handeye/node/handeye_node.hpp"
 
 #include <chrono>
 
-#include "formats/conversions.hpp"
-#include "handeye/node/result_conversion.hpp"
 #include "runtime/channels.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/handeye/node/result_conversion.hpp"
 
 namespace fusecal {
 

@@ -9,10 +9,10 @@
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/motion_set_t.hpp"
 #include "fusecal/motion_t.hpp"
-#include "handeye/calibrator.hpp"
 #include "runtime/config_reader.hpp"
 #include "runtime/stage_main.hpp"
 #include "runtime/work_stats.hpp"
+#include "stages/handeye/calibrator.hpp"
 
 namespace fusecal {
 

@@ -1,4 +1,4 @@
-#include "handeye/node/handeye_node.hpp"
+#include "stages/handeye/node/handeye_node.hpp"
 
 int main(int argc, char** argv) {
   return fusecal::RunStage<fusecal::HandEyeNode>(

@@ -1,4 +1,4 @@
-#include "handeye/node/motion_csv.hpp"
+#include "stages/handeye/node/motion_csv.hpp"
 
 #include <cmath>
 #include <fstream>

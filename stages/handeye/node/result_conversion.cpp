@@ -1,9 +1,9 @@
-#include "handeye/node/result_conversion.hpp"
+#include "stages/handeye/node/result_conversion.hpp"
 
 #include <sstream>
 
-#include "formats/conversions.hpp"
-#include "formats/extrinsic_status.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/extrinsic_status.hpp"
 
 namespace fusecal {
 

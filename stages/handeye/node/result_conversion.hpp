@@ -1,9 +1,9 @@
 // Hand-eye results into the common result file and into EXTRINSIC messages.
 #pragma once
 
-#include "formats/result_file.hpp"
 #include "fusecal/extrinsic_t.hpp"
-#include "handeye/handeye_solver.hpp"
+#include "stages/formats/result_file.hpp"
+#include "stages/handeye/handeye_solver.hpp"
 
 namespace fusecal {
 

@@ -1,8 +1,8 @@
-#include "lidar_icp/node/lidar_icp_node.hpp"
+#include "stages/lidar_icp/node/lidar_icp_node.hpp"
 
-#include "formats/conversions.hpp"
-#include "formats/motion_message.hpp"
 #include "runtime/channels.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/motion_message.hpp"
 
 namespace fusecal {
 

@@ -4,10 +4,10 @@
 // cache) is the skeleton's: node_kit/station_pair_node.hpp.
 #pragma once
 
-#include "foundation/point_cloud.hpp"
-#include "lidar_icp/registration.hpp"
-#include "node_kit/station_pair_node.hpp"
 #include "runtime/config_reader.hpp"
+#include "stages/foundation/point_cloud.hpp"
+#include "stages/lidar_icp/registration.hpp"
+#include "stages/node_kit/station_pair_node.hpp"
 
 namespace fusecal {
 

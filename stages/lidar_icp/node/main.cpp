@@ -1,4 +1,4 @@
-#include "lidar_icp/node/lidar_icp_node.hpp"
+#include "stages/lidar_icp/node/lidar_icp_node.hpp"
 
 int main(int argc, char** argv) {
   return fusecal::RunStage<fusecal::LidarIcpNode>(

@@ -1,4 +1,4 @@
-#include "ros2_input/node/ros2_input_node.hpp"
+#include "stages/ros2_input/node/ros2_input_node.hpp"
 
 int main(int argc, char** argv) {
   return fusecal::RunStage<fusecal::Ros2InputNode>(

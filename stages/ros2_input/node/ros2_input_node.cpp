@@ -1,4 +1,4 @@
-#include "ros2_input/node/ros2_input_node.hpp"
+#include "stages/ros2_input/node/ros2_input_node.hpp"
 
 #include <dds/ddsi/ddsi_serdata.h>
 
@@ -6,11 +6,11 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "formats/camera_file.hpp"
-#include "formats/conversions.hpp"
-#include "ros2_dds/ros2_domain.hpp"
 #include "ros2_messages.h"
 #include "runtime/channels.hpp"
+#include "stages/formats/camera_file.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/ros2_dds/ros2_domain.hpp"
 
 namespace fusecal {
 

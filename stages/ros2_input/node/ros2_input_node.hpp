@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "ros2_input/node/ros2_input_settings.hpp"
-#include "ros2_input/node/ros2_sensor_input.hpp"
 #include "runtime/stage_main.hpp"
 #include "runtime/work_stats.hpp"
+#include "stages/ros2_input/node/ros2_input_settings.hpp"
+#include "stages/ros2_input/node/ros2_sensor_input.hpp"
 
 namespace fusecal {
 

@@ -1,10 +1,10 @@
-#include "ros2_input/node/ros2_input_settings.hpp"
+#include "stages/ros2_input/node/ros2_input_settings.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
-#include "formats/ros2_names.hpp"
+#include "stages/formats/ros2_names.hpp"
 
 namespace fusecal {
 

@@ -1,11 +1,11 @@
-#include "ros2_input/node/ros2_sensor_input.hpp"
+#include "stages/ros2_input/node/ros2_sensor_input.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
 #include <vector>
 
-#include "formats/ros_cdr.hpp"
+#include "stages/formats/ros_cdr.hpp"
 
 namespace fusecal {
 

@@ -12,7 +12,7 @@
 #include <optional>
 #include <string>
 
-#include "formats/ros_sensor_frames.hpp"
+#include "stages/formats/ros_sensor_frames.hpp"
 
 namespace fusecal {
 

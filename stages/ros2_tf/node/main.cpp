@@ -1,4 +1,4 @@
-#include "ros2_tf/node/ros2_tf_node.hpp"
+#include "stages/ros2_tf/node/ros2_tf_node.hpp"
 
 int main(int argc, char** argv) {
   return fusecal::RunStage<fusecal::Ros2TfNode>(

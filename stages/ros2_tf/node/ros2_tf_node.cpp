@@ -1,4 +1,4 @@
-#include "ros2_tf/node/ros2_tf_node.hpp"
+#include "stages/ros2_tf/node/ros2_tf_node.hpp"
 
 #include <Eigen/Geometry>
 #include <cstdio>
@@ -6,13 +6,13 @@
 #include <string>
 
 #include "dds/dds.h"
-#include "formats/conversions.hpp"
-#include "formats/ros2_names.hpp"
-#include "formats/ros_sensor_encode.hpp"
-#include "ros2_dds/ros2_domain.hpp"
 #include "ros2_messages.h"
-#include "ros2_tf/node/ros2_views.hpp"
 #include "runtime/channels.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/ros2_names.hpp"
+#include "stages/formats/ros_sensor_encode.hpp"
+#include "stages/ros2_dds/ros2_domain.hpp"
+#include "stages/ros2_tf/node/ros2_views.hpp"
 
 namespace fusecal {
 

@@ -16,9 +16,9 @@
 
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/station_t.hpp"
-#include "ros2_tf/node/ros2_tf_settings.hpp"
-#include "ros2_tf/node/ros2_views.hpp"
 #include "runtime/stage_main.hpp"
+#include "stages/ros2_tf/node/ros2_tf_settings.hpp"
+#include "stages/ros2_tf/node/ros2_views.hpp"
 
 namespace fusecal {
 

@@ -1,8 +1,8 @@
-#include "ros2_tf/node/ros2_tf_settings.hpp"
+#include "stages/ros2_tf/node/ros2_tf_settings.hpp"
 
 #include <cstdlib>
 
-#include "formats/ros2_names.hpp"
+#include "stages/formats/ros2_names.hpp"
 
 namespace fusecal {
 

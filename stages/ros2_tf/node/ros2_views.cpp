@@ -1,12 +1,12 @@
-#include "ros2_tf/node/ros2_views.hpp"
+#include "stages/ros2_tf/node/ros2_views.hpp"
 
 #include <algorithm>
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
 
-#include "formats/conversions.hpp"
-#include "formats/extrinsic_status.hpp"
-#include "formats/result_file.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/extrinsic_status.hpp"
+#include "stages/formats/result_file.hpp"
 
 namespace fusecal {
 

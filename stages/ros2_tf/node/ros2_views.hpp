@@ -12,10 +12,10 @@
 #include <utility>
 #include <vector>
 
-#include "foundation/camera_model.hpp"
-#include "foundation/point_cloud.hpp"
-#include "foundation/se3.hpp"
 #include "fusecal/extrinsic_t.hpp"
+#include "stages/foundation/camera_model.hpp"
+#include "stages/foundation/point_cloud.hpp"
+#include "stages/foundation/se3.hpp"
 
 namespace fusecal {
 

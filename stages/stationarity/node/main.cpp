@@ -1,4 +1,4 @@
-#include "stationarity/node/stationarity_node.hpp"
+#include "stages/stationarity/node/stationarity_node.hpp"
 
 int main(int argc, char** argv) {
   return fusecal::RunStage<fusecal::StationarityNode>(

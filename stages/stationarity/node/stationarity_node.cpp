@@ -1,10 +1,10 @@
-#include "stationarity/node/stationarity_node.hpp"
+#include "stages/stationarity/node/stationarity_node.hpp"
 
 #include <cmath>
 #include <memory>
 
-#include "formats/conversions.hpp"
 #include "runtime/channels.hpp"
+#include "stages/formats/conversions.hpp"
 
 namespace fusecal {
 

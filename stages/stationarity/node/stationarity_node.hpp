@@ -22,7 +22,7 @@
 #include "runtime/config_reader.hpp"
 #include "runtime/stage_main.hpp"
 #include "runtime/work_stats.hpp"
-#include "stationarity/stationarity_detector.hpp"
+#include "stages/stationarity/stationarity_detector.hpp"
 
 namespace fusecal {
 

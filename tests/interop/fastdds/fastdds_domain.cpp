@@ -7,7 +7,7 @@
 #include <memory>
 #include <stdexcept>
 
-#include "formats/ros2_names.hpp"
+#include "stages/formats/ros2_names.hpp"
 
 namespace fusecal::fastdds_peer {
 

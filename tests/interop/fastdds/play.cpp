@@ -8,8 +8,6 @@
 
 #include "fastdds_domain.hpp"
 #include "fastdds_generated/ros2_messagesPubSubTypes.h"
-#include "formats/conversions.hpp"
-#include "formats/ros_sensor_encode.hpp"
 #include "fusecal/camera_info_t.hpp"
 #include "fusecal/image_t.hpp"
 #include "fusecal/point_cloud_t.hpp"
@@ -17,7 +15,9 @@
 #include "ros2_fastdds_types.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
-#include "support/looped_recording.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/ros_sensor_encode.hpp"
+#include "tests/support/looped_recording.hpp"
 
 namespace fusecal::fastdds_peer {
 namespace {

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "fastdds_generated/ros2_messages.h"
-#include "formats/ros_sensor_messages.hpp"
+#include "stages/formats/ros_sensor_messages.hpp"
 
 namespace fusecal::fastdds_peer {
 

@@ -17,10 +17,10 @@
 #include <sstream>
 #include <thread>
 
-#include "formats/conversions.hpp"
 #include "fusecal/extrinsic_t.hpp"
 #include "runtime/bus.hpp"
-#include "support/process_utils.hpp"
+#include "stages/formats/conversions.hpp"
+#include "tests/support/process_utils.hpp"
 
 namespace fusecal {
 namespace {

@@ -8,16 +8,16 @@
 #include <opencv2/features2d.hpp>
 #include <random>
 
-#include "camera_frontend/bearings.hpp"
-#include "camera_frontend/chirality.hpp"
-#include "camera_frontend/epipolar_refinement.hpp"
-#include "camera_frontend/features.hpp"
-#include "camera_frontend/five_point_ransac.hpp"
-#include "camera_frontend/masks.hpp"
-#include "camera_frontend/matching.hpp"
-#include "camera_frontend/rotation_only.hpp"
-#include "camera_frontend/settings.hpp"
-#include "support/camera_frontend_helpers.hpp"
+#include "runtime/sim/fixtures/camera_frontend_helpers.hpp"
+#include "stages/camera_frontend/bearings.hpp"
+#include "stages/camera_frontend/chirality.hpp"
+#include "stages/camera_frontend/epipolar_refinement.hpp"
+#include "stages/camera_frontend/features.hpp"
+#include "stages/camera_frontend/five_point_ransac.hpp"
+#include "stages/camera_frontend/masks.hpp"
+#include "stages/camera_frontend/matching.hpp"
+#include "stages/camera_frontend/rotation_only.hpp"
+#include "stages/camera_frontend/settings.hpp"
 
 namespace fusecal::test {
 namespace {

@@ -12,8 +12,8 @@
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 
-#include "camera_frontend/relative_pose.hpp"
-#include "support/camera_frontend_helpers.hpp"
+#include "runtime/sim/fixtures/camera_frontend_helpers.hpp"
+#include "stages/camera_frontend/relative_pose.hpp"
 
 namespace fusecal::test {
 namespace {

@@ -7,10 +7,10 @@
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 
-#include "camera_frontend/relative_pose.hpp"
-#include "importers/kitti.hpp"
-#include "lidar_icp/registration.hpp"
-#include "scan_io/scan_io.hpp"
+#include "runtime/io/importers/kitti.hpp"
+#include "runtime/io/scan_io/scan_io.hpp"
+#include "stages/camera_frontend/relative_pose.hpp"
+#include "stages/lidar_icp/registration.hpp"
 
 namespace fusecal {
 namespace {

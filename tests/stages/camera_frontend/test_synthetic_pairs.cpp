@@ -8,9 +8,9 @@
 #include <memory>
 #include <opencv2/imgproc.hpp>
 
-#include "camera_frontend/relative_pose.hpp"
-#include "support/camera_frontend_helpers.hpp"
-#include "support/synthetic_room.hpp"
+#include "runtime/sim/fixtures/camera_frontend_helpers.hpp"
+#include "runtime/sim/fixtures/synthetic_room.hpp"
+#include "stages/camera_frontend/relative_pose.hpp"
 
 namespace fusecal::test {
 namespace {

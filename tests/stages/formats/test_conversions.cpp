@@ -2,8 +2,8 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "formats/conversions.hpp"
-#include "formats/extrinsic_status.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/extrinsic_status.hpp"
 
 namespace fusecal {
 namespace {

@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "formats/livox_conversions.hpp"
-#include "formats/ros1_serialized.hpp"
-#include "formats/ros_cdr.hpp"
-#include "formats/ros_sensor_conversions.hpp"
-#include "formats/ros_sensor_frames.hpp"
-#include "support/cdr_writer.hpp"
-#include "support/point_cloud_expectations.hpp"
+#include "stages/formats/livox_conversions.hpp"
+#include "stages/formats/ros1_serialized.hpp"
+#include "stages/formats/ros_cdr.hpp"
+#include "stages/formats/ros_sensor_conversions.hpp"
+#include "stages/formats/ros_sensor_frames.hpp"
+#include "tests/support/cdr_writer.hpp"
+#include "tests/support/point_cloud_expectations.hpp"
 
 namespace fusecal {
 namespace {

@@ -6,12 +6,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "formats/extrinsic_formats.hpp"
-#include "formats/ground_truth.hpp"
-#include "formats/result_file.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
-#include "support/process_utils.hpp"
+#include "stages/formats/extrinsic_formats.hpp"
+#include "stages/formats/ground_truth.hpp"
+#include "stages/formats/result_file.hpp"
+#include "tests/support/process_utils.hpp"
 
 namespace fusecal {
 namespace {

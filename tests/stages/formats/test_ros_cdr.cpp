@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "formats/ros_cdr.hpp"
-#include "formats/ros_sensor_conversions.hpp"
-#include "support/cdr_writer.hpp"
+#include "stages/formats/ros_cdr.hpp"
+#include "stages/formats/ros_sensor_conversions.hpp"
+#include "tests/support/cdr_writer.hpp"
 
 namespace fusecal {
 namespace {

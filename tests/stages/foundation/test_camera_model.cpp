@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "foundation/camera_model.hpp"
+#include "stages/foundation/camera_model.hpp"
 
 namespace fusecal {
 namespace {

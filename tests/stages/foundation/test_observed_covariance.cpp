@@ -3,7 +3,7 @@
 
 #include <Eigen/Geometry>
 
-#include "foundation/observed_covariance.hpp"
+#include "stages/foundation/observed_covariance.hpp"
 
 namespace fusecal {
 namespace {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "foundation/se3.hpp"
+#include "stages/foundation/se3.hpp"
 
 namespace fusecal {
 namespace {

@@ -3,8 +3,8 @@
 
 #include <limits>
 
-#include "fusion_odometry/fusion_odometry.hpp"
-#include "support/fo_test_data.hpp"
+#include "runtime/sim/fixtures/fo_test_data.hpp"
+#include "stages/fusion_odometry/fusion_odometry.hpp"
 
 namespace fusecal::fusion_odometry {
 namespace {

@@ -10,14 +10,14 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
-#include "fusion_odometry/derotation.hpp"
-#include "fusion_odometry/fusion_odometry.hpp"
-#include "fusion_odometry/klt_tracking.hpp"
-#include "fusion_odometry/p3p_ransac.hpp"
-#include "fusion_odometry/pose_refinement.hpp"
-#include "fusion_odometry/track_selection.hpp"
-#include "fusion_odometry/visibility.hpp"
-#include "support/fo_test_data.hpp"
+#include "runtime/sim/fixtures/fo_test_data.hpp"
+#include "stages/fusion_odometry/derotation.hpp"
+#include "stages/fusion_odometry/fusion_odometry.hpp"
+#include "stages/fusion_odometry/klt_tracking.hpp"
+#include "stages/fusion_odometry/p3p_ransac.hpp"
+#include "stages/fusion_odometry/pose_refinement.hpp"
+#include "stages/fusion_odometry/track_selection.hpp"
+#include "stages/fusion_odometry/visibility.hpp"
 
 namespace fusecal::fusion_odometry {
 namespace {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "fusion_odometry/node/fusion_odometry_node.hpp"
+#include "stages/fusion_odometry/node/fusion_odometry_node.hpp"
 
 namespace fusecal {
 namespace {

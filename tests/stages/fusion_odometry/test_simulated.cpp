@@ -1,4 +1,4 @@
-// Fusion odometry on simulated stop-and-rotate recordings (tools/sim/simulator): with the true extrinsic the
+// Fusion odometry on simulated stop-and-rotate recordings (runtime/sim/simulator): with the true extrinsic the
 // metric camera motion of every motion is within 5 mm and 0.05 deg of the truth; with a perturbed extrinsic
 // the motion error grows smoothly with the perturbation, not catastrophically.
 #include <gtest/gtest.h>
@@ -8,8 +8,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "fusion_odometry/fusion_odometry.hpp"
-#include "support/fo_test_data.hpp"
+#include "runtime/sim/fixtures/fo_test_data.hpp"
+#include "stages/fusion_odometry/fusion_odometry.hpp"
 
 namespace fusecal::fusion_odometry {
 namespace {

@@ -6,9 +6,9 @@
 #include <map>
 #include <set>
 
-#include "foundation/se3.hpp"
-#include "handeye/calibrator.hpp"
-#include "handeye/synthetic_motions.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/handeye/calibrator.hpp"
+#include "stages/handeye/synthetic_motions.hpp"
 
 namespace fusecal {
 namespace {

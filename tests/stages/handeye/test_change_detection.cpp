@@ -4,11 +4,11 @@
 
 #include <random>
 
-#include "foundation/se3.hpp"
-#include "handeye/calibrator.hpp"
-#include "handeye/calibrator_playback.hpp"
-#include "handeye/change_detection.hpp"
-#include "handeye/synthetic_motions.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/handeye/calibrator.hpp"
+#include "stages/handeye/calibrator_playback.hpp"
+#include "stages/handeye/change_detection.hpp"
+#include "stages/handeye/synthetic_motions.hpp"
 
 namespace fusecal {
 namespace {

@@ -5,8 +5,8 @@
 #include <limits>
 #include <vector>
 
-#include "handeye/handeye_solver.hpp"
-#include "handeye/synthetic_motions.hpp"
+#include "stages/handeye/handeye_solver.hpp"
+#include "stages/handeye/synthetic_motions.hpp"
 
 namespace fusecal {
 namespace {

@@ -6,10 +6,10 @@
 #include <cmath>
 #include <functional>
 
-#include "handeye/global_scale.hpp"
-#include "handeye/handeye_solver.hpp"
-#include "handeye/handheld_motions.hpp"
-#include "handeye/synthetic_motions.hpp"
+#include "stages/handeye/global_scale.hpp"
+#include "stages/handeye/handeye_solver.hpp"
+#include "stages/handeye/handheld_motions.hpp"
+#include "stages/handeye/synthetic_motions.hpp"
 
 namespace fusecal {
 namespace {

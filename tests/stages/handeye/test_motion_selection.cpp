@@ -7,7 +7,7 @@
 #include <numeric>
 #include <vector>
 
-#include "handeye/motion_selection.hpp"
+#include "stages/handeye/motion_selection.hpp"
 
 namespace fusecal {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "foundation/se3.hpp"
-#include "handeye/rotation_noise.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/handeye/rotation_noise.hpp"
 
 namespace fusecal::handeye {
 namespace {

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <random>
 
-#include "foundation/se3.hpp"
-#include "handeye/handeye_solver.hpp"
-#include "handeye/synthetic_motions.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/handeye/handeye_solver.hpp"
+#include "stages/handeye/synthetic_motions.hpp"
 
 namespace fusecal {
 namespace {

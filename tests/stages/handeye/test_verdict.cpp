@@ -5,12 +5,12 @@
 #include <Eigen/Geometry>
 #include <random>
 
-#include "foundation/observed_covariance.hpp"
-#include "foundation/se3.hpp"
-#include "handeye/global_scale.hpp"
-#include "handeye/handeye_solver.hpp"
-#include "handeye/outlier_rejection.hpp"
-#include "handeye/synthetic_motions.hpp"
+#include "stages/foundation/observed_covariance.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/handeye/global_scale.hpp"
+#include "stages/handeye/handeye_solver.hpp"
+#include "stages/handeye/outlier_rejection.hpp"
+#include "stages/handeye/synthetic_motions.hpp"
 
 namespace fusecal {
 namespace {

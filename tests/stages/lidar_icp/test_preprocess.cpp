@@ -5,11 +5,11 @@
 #include <limits>
 #include <random>
 
-#include "foundation/se3.hpp"
-#include "lidar_icp/consistency.hpp"
-#include "lidar_icp/distance_field.hpp"
-#include "lidar_icp/global_alignment.hpp"
-#include "lidar_icp/preprocess.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/lidar_icp/consistency.hpp"
+#include "stages/lidar_icp/distance_field.hpp"
+#include "stages/lidar_icp/global_alignment.hpp"
+#include "stages/lidar_icp/preprocess.hpp"
 
 namespace fusecal::lidar_icp {
 namespace {

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <limits>
 
-#include "foundation/se3.hpp"
-#include "lidar_icp/registration.hpp"
-#include "support/synthetic_scans.hpp"
+#include "runtime/sim/fixtures/synthetic_scans.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/lidar_icp/registration.hpp"
 
 namespace fusecal::lidar_icp {
 namespace {

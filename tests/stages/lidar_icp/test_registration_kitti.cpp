@@ -8,9 +8,9 @@
 #include <map>
 #include <string>
 
-#include "foundation/se3.hpp"
-#include "lidar_icp/registration.hpp"
-#include "scan_io/scan_io.hpp"
+#include "runtime/io/scan_io/scan_io.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/lidar_icp/registration.hpp"
 
 namespace fusecal::lidar_icp {
 namespace {

@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "lidar_icp/registration.hpp"
+#include "stages/lidar_icp/registration.hpp"
 
 namespace fusecal::lidar_icp {
 namespace {

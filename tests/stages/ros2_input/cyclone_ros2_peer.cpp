@@ -7,7 +7,7 @@
 //     publishes the log's CAMERA_IMAGE and LIDAR_SCAN as sensor_msgs topics at recorded pace (stamps from
 //     the log), with the CameraInfo beside every image as camera drivers do, once every topic has a
 //     matched reader; with --loop-s, the log forward, then backward, ... until the stream lasts S seconds
-//     (support/looped_recording.hpp). Prints what it sent, and when, as JSON.
+//     (tests/support/looped_recording.hpp). Prints what it sent, and when, as JSON.
 //   cyclone_ros2_peer tf-listen [--domain N] [--timeout S]
 //     a late-joining reader of rt/tf_static (reliable, transient local); prints the transform as JSON.
 #include <CLI/CLI.hpp>
@@ -20,16 +20,16 @@
 #include <thread>
 
 #include "dds/dds.h"
-#include "formats/conversions.hpp"
-#include "formats/ros2_names.hpp"
-#include "formats/ros_sensor_encode.hpp"
 #include "fusecal/camera_info_t.hpp"
 #include "fusecal/image_t.hpp"
 #include "fusecal/point_cloud_t.hpp"
 #include "ros2_messages.h"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
-#include "support/looped_recording.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/ros2_names.hpp"
+#include "stages/formats/ros_sensor_encode.hpp"
+#include "tests/support/looped_recording.hpp"
 
 namespace fusecal {
 namespace {

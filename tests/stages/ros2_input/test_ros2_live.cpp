@@ -15,10 +15,10 @@
 #include <regex>
 #include <thread>
 
-#include "formats/result_file.hpp"
 #include "fusecal/station_t.hpp"
 #include "runtime/lcm_log.hpp"
-#include "support/process_utils.hpp"
+#include "stages/formats/result_file.hpp"
+#include "tests/support/process_utils.hpp"
 
 namespace fusecal {
 namespace {

@@ -3,11 +3,11 @@
 // checks and topic names; fusecal's types as ROS messages and back; Livox's CustomMsg as the cloud.
 #include <gtest/gtest.h>
 
-#include "formats/ros2_names.hpp"
-#include "formats/ros_sensor_encode.hpp"
-#include "ros2_input/node/ros2_input_settings.hpp"
-#include "ros2_input/node/ros2_sensor_input.hpp"
-#include "support/cdr_writer.hpp"
+#include "stages/formats/ros2_names.hpp"
+#include "stages/formats/ros_sensor_encode.hpp"
+#include "stages/ros2_input/node/ros2_input_settings.hpp"
+#include "stages/ros2_input/node/ros2_sensor_input.hpp"
+#include "tests/support/cdr_writer.hpp"
 
 namespace fusecal {
 namespace {

@@ -14,12 +14,12 @@
 #include <thread>
 
 #include "dds/dds.h"
-#include "formats/conversions.hpp"
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "ros2_messages.h"
-#include "ros2_tf/node/ros2_views.hpp"
 #include "runtime/bus.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/ros2_tf/node/ros2_views.hpp"
 
 namespace fusecal {
 namespace {

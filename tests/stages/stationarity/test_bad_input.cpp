@@ -5,7 +5,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "support/stationarity_test_util.hpp"
+#include "runtime/sim/fixtures/stationarity_test_util.hpp"
 
 namespace fusecal {
 namespace {

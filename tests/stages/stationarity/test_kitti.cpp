@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "scan_io/scan_io.hpp"
-#include "stationarity/stationarity_detector.hpp"
+#include "runtime/io/scan_io/scan_io.hpp"
+#include "stages/stationarity/stationarity_detector.hpp"
 
 namespace fusecal {
 namespace {

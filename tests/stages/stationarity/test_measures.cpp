@@ -4,8 +4,8 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
-#include "stationarity/image_motion.hpp"
-#include "stationarity/range_image.hpp"
+#include "stages/stationarity/image_motion.hpp"
+#include "stages/stationarity/range_image.hpp"
 
 namespace fusecal {
 namespace {

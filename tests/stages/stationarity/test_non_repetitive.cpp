@@ -3,8 +3,8 @@
 // one station, and the station cloud accumulates the still scans of accumulate_s seconds.
 #include <gtest/gtest.h>
 
-#include "stationarity/range_image.hpp"
-#include "support/stationarity_test_util.hpp"
+#include "runtime/sim/fixtures/stationarity_test_util.hpp"
+#include "stages/stationarity/range_image.hpp"
 
 namespace fusecal {
 namespace {

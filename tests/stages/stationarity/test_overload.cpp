@@ -3,13 +3,13 @@
 // STATION is published for every one of them.
 #include <gtest/gtest.h>
 
-#include "formats/conversions.hpp"
 #include "fusecal/camera_info_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/channels.hpp"
-#include "stationarity/node/stationarity_node.hpp"
-#include "support/stationarity_test_util.hpp"
+#include "runtime/sim/fixtures/stationarity_test_util.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/stationarity/node/stationarity_node.hpp"
 
 using namespace fusecal;
 using namespace fusecal::stationarity_test;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "stationarity/stationarity_detector.hpp"
+#include "stages/stationarity/stationarity_detector.hpp"
 
 namespace fusecal {
 namespace {

@@ -1,11 +1,11 @@
-// Simulated recordings (tools/sim/simulator, the tiny scenario): every true still interval gives exactly one
+// Simulated recordings (runtime/sim/simulator, the tiny scenario): every true still interval gives exactly one
 // station, none comes during motion, and each lies inside its interval.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <opencv2/imgproc.hpp>
 
-#include "support/stationarity_test_util.hpp"
+#include "runtime/sim/fixtures/stationarity_test_util.hpp"
 
 namespace fusecal {
 namespace {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "support/process_utils.hpp"
+#include "tests/support/process_utils.hpp"
 
 namespace {
 

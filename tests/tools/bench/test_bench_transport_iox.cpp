@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "runtime/shared_memory.hpp"
-#include "support/process_utils.hpp"
+#include "tests/support/process_utils.hpp"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include "fusecal/point_cloud_t.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
-#include "support/looped_recording.hpp"
+#include "tests/support/looped_recording.hpp"
 
 namespace fusecal::testing {
 namespace {

@@ -21,7 +21,7 @@
 #include "fusecal/camera_info_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "runtime/lcm_log.hpp"
-#include "support/process_utils.hpp"
+#include "tests/support/process_utils.hpp"
 
 namespace fusecal {
 namespace {

@@ -7,10 +7,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "formats/result_file.hpp"
-#include "handeye/handheld_motions.hpp"
-#include "handeye/synthetic_motions.hpp"
-#include "support/process_utils.hpp"
+#include "stages/formats/result_file.hpp"
+#include "stages/handeye/handheld_motions.hpp"
+#include "stages/handeye/synthetic_motions.hpp"
+#include "tests/support/process_utils.hpp"
 
 namespace fusecal {
 namespace {

@@ -12,10 +12,10 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "formats/result_file.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
-#include "support/process_utils.hpp"
+#include "stages/formats/result_file.hpp"
+#include "tests/support/process_utils.hpp"
 
 namespace fusecal {
 namespace {

@@ -6,11 +6,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "formats/conversions.hpp"
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "runtime/lcm_log.hpp"
-#include "support/process_utils.hpp"
+#include "stages/formats/conversions.hpp"
+#include "tests/support/process_utils.hpp"
 
 namespace fusecal {
 namespace {

@@ -6,15 +6,15 @@
 #include <filesystem>
 #include <set>
 
-#include "formats/motion_message.hpp"
 #include "fusecal/extrinsic_t.hpp"
-#include "handeye/node/handeye_node.hpp"
-#include "handeye/synthetic_motions.hpp"
-#include "node_kit/station_retention.hpp"
-#include "pipeline/session_log.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
+#include "runtime/pipeline/session_log.hpp"
+#include "stages/formats/motion_message.hpp"
+#include "stages/handeye/node/handeye_node.hpp"
+#include "stages/handeye/synthetic_motions.hpp"
+#include "stages/node_kit/station_retention.hpp"
 
 namespace fusecal {
 namespace {

@@ -14,12 +14,12 @@
 #include <sstream>
 #include <thread>
 
-#include "formats/ground_truth.hpp"
-#include "formats/result_file.hpp"
-#include "foundation/extrinsic_error.hpp"
-#include "foundation/se3.hpp"
 #include "runtime/shared_memory.hpp"
-#include "support/process_utils.hpp"
+#include "stages/formats/ground_truth.hpp"
+#include "stages/formats/result_file.hpp"
+#include "stages/foundation/extrinsic_error.hpp"
+#include "stages/foundation/se3.hpp"
+#include "tests/support/process_utils.hpp"
 
 namespace fusecal {
 namespace {

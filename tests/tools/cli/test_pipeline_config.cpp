@@ -6,7 +6,7 @@
 #include <functional>
 #include <string>
 
-#include "pipeline/pipeline_config.hpp"
+#include "runtime/pipeline/pipeline_config.hpp"
 
 namespace fusecal {
 namespace {

@@ -9,16 +9,16 @@
 #include <map>
 #include <random>
 
-#include "camera_frontend/relative_pose.hpp"
-#include "formats/conversions.hpp"
-#include "formats/ground_truth.hpp"
-#include "foundation/extrinsic_error.hpp"
 #include "fusecal/station_t.hpp"
-#include "fusion_odometry/fusion_odometry.hpp"
-#include "handeye/handeye_solver.hpp"
-#include "lidar_icp/registration.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
+#include "stages/camera_frontend/relative_pose.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/ground_truth.hpp"
+#include "stages/foundation/extrinsic_error.hpp"
+#include "stages/fusion_odometry/fusion_odometry.hpp"
+#include "stages/handeye/handeye_solver.hpp"
+#include "stages/lidar_icp/registration.hpp"
 
 using namespace fusecal;
 

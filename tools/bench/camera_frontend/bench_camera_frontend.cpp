@@ -18,9 +18,9 @@
 #include <thread>
 #include <vector>
 
-#include "camera_frontend/relative_pose.hpp"
-#include "support/camera_frontend_helpers.hpp"
-#include "support/synthetic_room.hpp"
+#include "runtime/sim/fixtures/camera_frontend_helpers.hpp"
+#include "runtime/sim/fixtures/synthetic_room.hpp"
+#include "stages/camera_frontend/relative_pose.hpp"
 
 using namespace fusecal;
 using namespace fusecal::test;

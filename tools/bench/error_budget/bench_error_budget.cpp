@@ -34,17 +34,17 @@
 #include <string>
 #include <vector>
 
-#include "formats/conversions.hpp"
-#include "formats/ground_truth.hpp"
 #include "fusecal/extrinsic_t.hpp"
 #include "fusecal/ground_truth_t.hpp"
 #include "fusecal/motion_t.hpp"
 #include "fusecal/station_t.hpp"
-#include "fusion_odometry/fusion_odometry.hpp"
-#include "handeye/handeye_solver.hpp"
 #include "runtime/bus.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/ground_truth.hpp"
+#include "stages/fusion_odometry/fusion_odometry.hpp"
+#include "stages/handeye/handeye_solver.hpp"
 
 using namespace fusecal;
 

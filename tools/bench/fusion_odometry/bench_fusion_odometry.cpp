@@ -14,13 +14,13 @@
 #include <string>
 #include <vector>
 
-#include "fusion_odometry/fusion_odometry.hpp"
-#include "importers/kitti.hpp"
-#include "support/fo_test_data.hpp"
+#include "runtime/io/importers/kitti.hpp"
+#include "runtime/sim/fixtures/fo_test_data.hpp"
+#include "stages/fusion_odometry/fusion_odometry.hpp"
 #if FUSECAL_FO_HAVE_LIDAR_ICP
-#include "lidar_icp/registration.hpp"
+#include "stages/lidar_icp/registration.hpp"
 #endif
-#include "scan_io/scan_io.hpp"
+#include "runtime/io/scan_io/scan_io.hpp"
 
 using namespace fusecal;
 using namespace fusecal::fusion_odometry;

@@ -20,8 +20,8 @@
 #include <utility>
 #include <vector>
 
-#include "handeye/handeye_solver.hpp"
-#include "handeye/synthetic_motions.hpp"
+#include "stages/handeye/handeye_solver.hpp"
+#include "stages/handeye/synthetic_motions.hpp"
 
 namespace {
 

@@ -10,10 +10,10 @@
 #include <cstring>
 #include <string>
 
-#include "handeye/global_scale.hpp"
-#include "handeye/handeye_solver.hpp"
-#include "handeye/handheld_motions.hpp"
-#include "handeye/synthetic_motions.hpp"
+#include "stages/handeye/global_scale.hpp"
+#include "stages/handeye/handeye_solver.hpp"
+#include "stages/handeye/handheld_motions.hpp"
+#include "stages/handeye/synthetic_motions.hpp"
 
 namespace {
 

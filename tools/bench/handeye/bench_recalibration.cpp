@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "foundation/se3.hpp"
-#include "handeye/calibrator.hpp"
-#include "handeye/calibrator_playback.hpp"
-#include "handeye/synthetic_motions.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/handeye/calibrator.hpp"
+#include "stages/handeye/calibrator_playback.hpp"
+#include "stages/handeye/synthetic_motions.hpp"
 
 namespace {
 

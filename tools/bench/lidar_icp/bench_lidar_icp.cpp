@@ -23,10 +23,10 @@
 #include <thread>
 #include <vector>
 
-#include "foundation/se3.hpp"
-#include "lidar_icp/registration.hpp"
-#include "scan_io/scan_io.hpp"
-#include "support/synthetic_scans.hpp"
+#include "runtime/io/scan_io/scan_io.hpp"
+#include "runtime/sim/fixtures/synthetic_scans.hpp"
+#include "stages/foundation/se3.hpp"
+#include "stages/lidar_icp/registration.hpp"
 
 namespace {
 

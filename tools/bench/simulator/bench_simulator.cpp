@@ -5,8 +5,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
-#include "simulator/scenario.hpp"
-#include "simulator/simulation.hpp"
+#include "runtime/sim/simulator/scenario.hpp"
+#include "runtime/sim/simulator/simulation.hpp"
 
 int main(int argc, char** argv) {
   using Clock = std::chrono::steady_clock;

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "support/stationarity_test_util.hpp"
+#include "runtime/sim/fixtures/stationarity_test_util.hpp"
 
 using namespace fusecal;
 using namespace fusecal::stationarity_test;

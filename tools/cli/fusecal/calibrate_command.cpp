@@ -6,7 +6,7 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "pipeline/calibrate.hpp"
+#include "runtime/pipeline/calibrate.hpp"
 
 namespace fusecal {
 

@@ -4,8 +4,8 @@
 
 #include "commands.hpp"
 #include "doctor.hpp"
-#include "pipeline/pipeline_config.hpp"
 #include "runtime/bus.hpp"
+#include "runtime/pipeline/pipeline_config.hpp"
 
 namespace fusecal {
 

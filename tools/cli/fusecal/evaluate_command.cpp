@@ -6,11 +6,11 @@
 #include <optional>
 
 #include "commands.hpp"
-#include "formats/ground_truth.hpp"
-#include "formats/message_json.hpp"
-#include "formats/result_file.hpp"
-#include "foundation/extrinsic_error.hpp"
-#include "foundation/se3.hpp"
+#include "stages/formats/ground_truth.hpp"
+#include "stages/formats/message_json.hpp"
+#include "stages/formats/result_file.hpp"
+#include "stages/foundation/extrinsic_error.hpp"
+#include "stages/foundation/se3.hpp"
 
 namespace fusecal {
 

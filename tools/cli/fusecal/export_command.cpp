@@ -4,8 +4,8 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "formats/extrinsic_formats.hpp"
 #include "runtime/output_file.hpp"
+#include "stages/formats/extrinsic_formats.hpp"
 
 namespace fusecal {
 

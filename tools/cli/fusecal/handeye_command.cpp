@@ -9,10 +9,10 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "handeye/global_scale.hpp"
-#include "handeye/node/motion_csv.hpp"
-#include "handeye/node/result_conversion.hpp"
-#include "handeye/segmented_solve.hpp"
+#include "stages/handeye/global_scale.hpp"
+#include "stages/handeye/node/motion_csv.hpp"
+#include "stages/handeye/node/result_conversion.hpp"
+#include "stages/handeye/segmented_solve.hpp"
 
 namespace fusecal {
 

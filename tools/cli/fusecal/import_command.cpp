@@ -3,12 +3,12 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "formats/camera_file.hpp"
-#include "importers/folder.hpp"
-#include "importers/ishikawa.hpp"
-#include "importers/kitti.hpp"
-#include "importers/rosbag.hpp"
 #include "progress.hpp"
+#include "runtime/io/importers/folder.hpp"
+#include "runtime/io/importers/ishikawa.hpp"
+#include "runtime/io/importers/kitti.hpp"
+#include "runtime/io/importers/rosbag.hpp"
+#include "stages/formats/camera_file.hpp"
 
 namespace fusecal {
 

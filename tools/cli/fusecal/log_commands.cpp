@@ -4,9 +4,9 @@
 #include <map>
 
 #include "commands.hpp"
-#include "formats/message_json.hpp"
 #include "runtime/channel_pattern.hpp"
 #include "runtime/lcm_log.hpp"
+#include "stages/formats/message_json.hpp"
 
 namespace fusecal {
 

@@ -8,7 +8,7 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "pipeline/run.hpp"
+#include "runtime/pipeline/run.hpp"
 
 namespace fusecal {
 

@@ -11,13 +11,13 @@
 #include <limits>
 
 #include "commands.hpp"
-#include "formats/conversions.hpp"
 #include "fusecal/ground_truth_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "progress.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
-#include "simulator/simulation.hpp"
+#include "runtime/sim/simulator/simulation.hpp"
+#include "stages/formats/conversions.hpp"
 
 namespace fusecal {
 

@@ -10,17 +10,17 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "commands.hpp"
-#include "formats/camera_file.hpp"
-#include "formats/conversions.hpp"
-#include "formats/message_json.hpp"
-#include "formats/result_file.hpp"
 #include "fusecal/camera_info_t.hpp"
 #include "fusecal/image_t.hpp"
 #include "fusecal/point_cloud_t.hpp"
-#include "pipeline/pipeline_config.hpp"
 #include "runtime/channels.hpp"
+#include "runtime/io/scan_io/scan_io.hpp"
 #include "runtime/lcm_log.hpp"
-#include "scan_io/scan_io.hpp"
+#include "runtime/pipeline/pipeline_config.hpp"
+#include "stages/formats/camera_file.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/message_json.hpp"
+#include "stages/formats/result_file.hpp"
 
 namespace fusecal {
 

@@ -1,0 +1,156 @@
+#include "runtime/pipeline/session.hpp"
+
+#include "runtime/pipeline/outputs.hpp"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+#include "fusecal/motion_set_t.hpp"
+#include "fusecal/motion_t.hpp"
+#include "fusecal/status_t.hpp"
+#include "runtime/channels.hpp"
+#include "stages/formats/conversions.hpp"
+#include "stages/formats/extrinsic_status.hpp"
+#include "stages/formats/result_file.hpp"
+#include "stages/foundation/observed_covariance.hpp"
+
+namespace fusecal {
+
+template <typename M>
+static bool Decode(const RawMessage& raw, M* message) {
+  return message->decode(raw.data, 0, static_cast<int>(raw.size)) >= 0;
+}
+
+SessionRecord::SessionRecord(Bus& bus, const std::string& dir, const RecordSettings& record) {
+  if (record.what != "none") log_ = std::make_unique<SessionLog>(dir, record);
+  subscriptions_.push_back(bus.SubscribeRaw(".*", [this](const RawMessage& raw) {
+    const std::string& ch = raw.channel;
+    if (log_) log_->Write(ch, raw.receive_utime, raw.data, raw.size, camera_info_bytes_);
+    if (ch == channels::kStation) {
+      OnStation(raw);
+    } else if (ch == channels::kExtrinsic) {
+      OnExtrinsic(raw);
+    } else if (ch == channels::kCameraInfo) {
+      camera_info_bytes_.assign(raw.data, raw.data + raw.size);
+    } else if (ch == channels::kGroundTruth) {
+      ground_truth_t g{};
+      if (Decode(raw, &g)) ground_truth_ = g;
+    } else if (ch == channels::kLidarMotion || ch == channels::kCameraMotion) {
+      OnMotion(raw);
+    } else if (ch == channels::kStatus) {
+      status_t s{};
+      if (!Decode(raw, &s) || s.name == kPlayerName) return;
+      stage_states_[s.name] = {s.state, s.last_error};
+      auto& counters = stage_counters_[s.name];
+      for (int i = 0; i < s.num_counters; ++i) counters[s.counter_names[i]] = s.counter_values[i];
+    }
+  }));
+}
+
+void SessionRecord::OnStation(const RawMessage& raw) {
+  last_news_utime_ = raw.receive_utime;
+  station_t s{};
+  if (!Decode(raw, &s)) return;
+  stations_[s.id] = {s.utime, s.still_from_utime, s.still_to_utime};
+  retention_.OnStation(s.id);
+  kept_stations_[s.id] = std::move(s);
+  retention_.Evict(&kept_stations_);
+}
+
+void SessionRecord::OnExtrinsic(const RawMessage& raw) {
+  last_news_utime_ = raw.receive_utime;
+  extrinsic_t e{};
+  if (!Decode(raw, &e) || (!extrinsics_.empty() && e.version <= extrinsics_.back().version)) return;
+  retention_.OnExtrinsic(e);
+  retention_.Evict(&kept_stations_);
+  taken_motions_to_.insert(e.used_station_j.begin(), e.used_station_j.end());
+  taken_motions_to_.insert(e.rejected_station_j.begin(), e.rejected_station_j.end());
+  extrinsics_.push_back(std::move(e));
+  extrinsic_receive_utimes_.push_back(raw.receive_utime);
+}
+
+void SessionRecord::OnMotion(const RawMessage& raw) {
+  motion_t m{};
+  if (!Decode(raw, &m)) return;
+  if (!m.valid) {
+    ++failed_motions_;
+    const std::string reason = raw.channel + ": " + m.failure_reason.substr(0, 200);
+    if (failure_reasons_.count(reason) || failure_reasons_.size() < kMaxFailureReasons) ++failure_reasons_[reason];
+  } else if (raw.channel == channels::kLidarMotion) {
+    ++lidar_motions_;
+  } else {
+    ++camera_motions_;
+  }
+  last_news_utime_ = raw.receive_utime;
+}
+
+SessionRecord::~SessionRecord() {
+  for (auto& s : subscriptions_) s.Unsubscribe();
+}
+
+void SessionRecord::Close() {
+  if (log_) log_->Close();
+}
+
+const extrinsic_t* SessionRecord::Final() const { return extrinsics_.empty() ? nullptr : &extrinsics_.back(); }
+
+const extrinsic_t* SessionRecord::Initial() const {
+  for (auto it = extrinsics_.rbegin(); it != extrinsics_.rend(); ++it)
+    if (!it->scaled && it->status != extrinsic_t::STATUS_FAILED) return &*it;
+  return nullptr;
+}
+
+bool LogHasStations(const std::string& log_path) {
+  LogReader reader(log_path);
+  for (int i = 0; i < 500; ++i) {
+    auto event = reader.Next();
+    if (!event) return false;
+    if (event->channel == channels::kStation) return true;
+  }
+  return false;
+}
+
+bool FeedsPipeline(const std::string& ch, bool use_detector) {
+  if (ch == channels::kGroundTruth) return true;
+  if (ch == channels::kStation) return !use_detector;
+  const bool raw = ch == channels::kCameraImage || ch == channels::kLidarScan || ch == channels::kCameraInfo;
+  return raw && use_detector;
+}
+
+std::string ProgressText(const SessionRecord& session) {
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(3);
+  out << "stations " << session.stations().size() << ", motions lidar " << session.lidar_motions() << " camera "
+      << session.camera_motions() << " failed " << session.failed_motions();
+  if (const extrinsic_t* e = session.Final()) {
+    const Isometry3 T = FromRowMajor(e->T_camera_lidar);
+    const Matrix6 cov = Matrix6FromArray(e->covariance);
+    const Eigen::Vector3d d(e->unobservable_direction[0], e->unobservable_direction[1], e->unobservable_direction[2]);
+    // With an unobservable direction: the std of what the motions observe (the direction projected out).
+    const ObservedUncertainty observed = ObservedPart(cov, T.linear(), d);
+    const Eigen::Vector3d t = T.translation(), st = observed.translation_std_m, sr = observed.rotation_std_deg;
+    const Eigen::Vector3d rpy = RpyFromRotation(T.linear()) * 180.0 / M_PI;
+    out << " | v" << e->version << " it" << e->iteration << " " << ExtrinsicStatusName(e->status) << " ("
+        << ObservabilityName(e->observability) << ")"
+        << " t=[" << t.x() << " " << t.y() << " " << t.z() << "]+-" << std::setprecision(4) << st.maxCoeff()
+        << " m rpy=[" << std::setprecision(2) << rpy.x() << " " << rpy.y() << " " << rpy.z() << "]+-"
+        << std::setprecision(4) << sr.maxCoeff() << " deg";
+    if (d.norm() > 0.5)
+      out << " (observed part; unobservable: [" << std::setprecision(2) << d.x() << " " << d.y() << " " << d.z()
+          << "])";
+    const std::vector<ExtrinsicChangeRecord> changes = ChangeRecords(*e);
+    if (!changes.empty()) {
+      const ExtrinsicChangeRecord& c = changes.back();
+      out << " | CHANGED after station " << c.after_station << " (decided at " << c.decided_at_station << "): ";
+      if (std::isnan(c.rotation_deg))
+        out << "size not known until the motions after it are solved";
+      else
+        out << std::setprecision(3) << c.rotation_deg << "+-" << c.rotation_std_deg << " deg, " << c.translation_m
+            << "+-" << c.translation_std_m << " m";
+    }
+  }
+  return out.str();
+}
+
+}  // namespace fusecal

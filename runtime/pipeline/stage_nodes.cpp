@@ -1,0 +1,16 @@
+#include "runtime/pipeline/stage_nodes.hpp"
+
+#include "runtime/pipeline/stage_registry.hpp"
+
+namespace fusecal {
+
+std::vector<NamedNode> MakeStageNodes(const PipelineConfig& config, bool with_stationarity) {
+  std::vector<NamedNode> nodes;
+  for (const StageInfo& stage : StageRegistry()) {
+    if (!stage.in_process || (stage.name == "stationarity" && !with_stationarity)) continue;
+    nodes.push_back({stage.name, MakeStageNode(stage.name, config)});
+  }
+  return nodes;
+}
+
+}  // namespace fusecal

@@ -1,0 +1,64 @@
+#include "runtime/pipeline/stage_split.hpp"
+
+#include <algorithm>
+#include <sstream>
+#include <stdexcept>
+
+#include "runtime/pipeline/stage_registry.hpp"
+
+namespace fusecal {
+
+namespace {
+bool Contains(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+}  // namespace
+
+const std::vector<std::string>& KnownStageNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> all;
+    for (const StageInfo& stage : StageRegistry()) all.push_back(stage.name);
+    return all;
+  }();
+  return names;
+}
+
+std::vector<std::string> PipelineStageNames(bool with_stationarity, bool with_ros2_tf, bool with_ros2_input) {
+  std::vector<std::string> names;
+  for (const auto& name : KnownStageNames())
+    if ((name != "stationarity" || with_stationarity) && (name != "ros2_tf" || with_ros2_tf) &&
+        (name != "ros2_input" || with_ros2_input))
+      names.push_back(name);
+  return names;
+}
+
+std::vector<std::string> ParseStageList(const std::string& list) {
+  std::vector<std::string> names;
+  std::istringstream in(list);
+  for (std::string name; std::getline(in, name, ',');) {
+    if (name.empty()) continue;
+    if (!Contains(KnownStageNames(), name))
+      throw std::invalid_argument("unknown stage '" + name + "' (the stages: " + JoinNames(KnownStageNames()) + ")");
+    if (Contains(names, name)) throw std::invalid_argument("stage '" + name + "' is listed twice");
+    names.push_back(name);
+  }
+  if (names.empty()) throw std::invalid_argument("no stage listed (the stages: " + JoinNames(KnownStageNames()) + ")");
+  return names;
+}
+
+StageSplit SplitStages(const std::vector<std::string>& pipeline, const std::vector<std::string>& selected) {
+  StageSplit split;
+  for (const auto& name : pipeline)
+    (selected.empty() || Contains(selected, name) ? split.here : split.elsewhere).push_back(name);
+  for (const auto& name : selected)
+    if (!Contains(pipeline, name)) split.not_needed.push_back(name);
+  return split;
+}
+
+std::string JoinNames(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& name : names) out += (out.empty() ? "" : ",") + name;
+  return out;
+}
+
+}  // namespace fusecal
