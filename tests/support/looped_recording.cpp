@@ -73,6 +73,13 @@ std::optional<LogEvent> LoopedRecording::NextStreamed() {
 }
 
 std::optional<LogEvent> LoopedRecording::Next() {
+  std::optional<LogEvent> event = NextEvent();
+  if (event && event->channel == channels::kCameraImage) image_gaps_.Add(event->utime);
+  if (event && event->channel == channels::kLidarScan) scan_gaps_.Add(event->utime);
+  return event;
+}
+
+std::optional<LogEvent> LoopedRecording::NextEvent() {
   if (reader_) return NextStreamed();
   if (next_ == events_.size()) {
     next_ = 0;

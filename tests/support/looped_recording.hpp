@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "runtime/lcm_log.hpp"
+#include "stages/ros2_input/node/ros2_sensor_input.hpp"
 
 namespace fusecal::testing {
 
@@ -25,10 +26,15 @@ class LoopedRecording {
   std::optional<LogEvent> Next();
 
   int passes() const { return passes_; }
+  // The images and scans a receiver judging losses from stamp gaps (StampGapCounter, as
+  // fusecal-ros2-input does) would count as lost in what was played so far, none being lost: where the
+  // stream turns, the frames nearest the turn leave a step of up to two periods.
+  long stamp_gaps() const { return image_gaps_.lost() + scan_gaps_.lost(); }
   // The length of one pass, seconds (the recording's first to last sensor event).
   double pass_seconds() const { return 1e-6 * static_cast<double>(last_utime_ - first_utime_); }
 
  private:
+  std::optional<LogEvent> NextEvent();
   std::optional<LogEvent> NextStreamed();
   LogEvent Restamped(size_t index, bool backward, int64_t base) const;
 
@@ -37,6 +43,7 @@ class LoopedRecording {
   std::vector<size_t> backward_order_;  // event indices by their backward stamps
   int64_t first_utime_ = 0, last_utime_ = 0;
   int passes_ = 1, pass_ = 0;
+  StampGapCounter image_gaps_, scan_gaps_;
   size_t next_ = 0;
 };
 

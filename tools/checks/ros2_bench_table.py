@@ -68,26 +68,37 @@ def dump(session_log, channel):
     return [json.loads(line) for line in out.splitlines() if line.strip()]
 
 
+ROUND_ENDED = {"converged", "not_converged", "degenerate", "failed"}
+
+
 def lags(session_log, play):
-    """(stream time, lag) of every STATION and every EXTRINSIC, in seconds: how long after the end of its
-    stop, as the peer published it (first_utime left at start_unix_s, at recorded pace), the station reached
-    the session log, and an answer after the end of the newest stop it used."""
+    """(stream time, lag) per station, in seconds from the end of its stop as the peer published it
+    (first_utime left at start_unix_s, at recorded pace): when the STATION reached the session log, and
+    when the pipeline had dealt with it (as `run` paces a replay): both motions ending at it out and then
+    a round ended (an EXTRINSIC converged, not converged, degenerate or failed)."""
     start, first = play["start_unix_s"], play["first_utime"]
 
     def wall(stamp_utime):
         return start + (stamp_utime - first) * 1e-6
 
-    stop_end = {}
+    stop_end, motions_out = {}, {}
     station_lags, answer_lags = [], []
     for event in dump(session_log, "^STATION$"):
         m = event["msg"]
         stop_end[m["id"]] = wall(m["still_to_utime"])
         station_lags.append((stop_end[m["id"]] - start, event["utime"] * 1e-6 - stop_end[m["id"]]))
-    for event in dump(session_log, "^EXTRINSIC$"):
-        used = [stop_end[i] for i in event["msg"].get("used_station_j", []) if i in stop_end]
-        if used:
-            newest = max(used)
-            answer_lags.append((newest - start, event["utime"] * 1e-6 - newest))
+    for channel in ("^LIDAR_MOTION$", "^CAMERA_MOTION$"):
+        for event in dump(session_log, channel):
+            motions_out.setdefault(event["msg"]["station_j"], []).append(event["utime"] * 1e-6)
+    round_ends = sorted(e["utime"] * 1e-6 for e in dump(session_log, "^EXTRINSIC$")
+                        if e["msg"]["status"] in ROUND_ENDED)
+    for station, times in motions_out.items():
+        if station not in stop_end or len(times) < 2:
+            continue
+        both_out = sorted(times)[1]
+        settled = next((t for t in round_ends if t >= both_out), None)
+        if settled is not None:
+            answer_lags.append((stop_end[station] - start, settled - stop_end[station]))
     return station_lags, answer_lags
 
 
@@ -121,8 +132,9 @@ def print_long_stream(work, runs):
     if not long_runs:
         return
     print()
-    print("| run, stream length | lag of stations, first / last minute: median, max (s) | "
-          "lag of answers, first / last minute: median, max (s) | resident memory, first / last minute (MB) |")
+    print("| run, stream length | station out after its stop, first / last minute: median, max (s) | "
+          "station dealt with after its stop, first / last minute: median, max (s) | "
+          "resident memory, first / last minute (MB) |")
     print("|---|---|---|---|")
     for run in long_runs:
         play = play_summary(os.path.join(work, run + ".play.json"))
@@ -164,7 +176,9 @@ def main():
             "image_latency_max_ms": 1000 * c.get("image_latency_max_s", float("nan")),
             "cloud_latency_mean_ms": 1000 * c.get("cloud_latency_mean_s", float("nan")),
             "cloud_latency_max_ms": 1000 * c.get("cloud_latency_max_s", float("nan")),
-            "judged_lost": int(c.get("image_lost", 0) + c.get("cloud_lost", 0)),
+            # what the stage judged lost from stamp gaps, less the gaps the player's turns leave (--minutes)
+            "judged_lost": int(c.get("image_lost", 0) + c.get("cloud_lost", 0))
+                           - int(play_summary(os.path.join(work, run + ".play.json")).get("stamp_gaps", 0)),
             "malformed": int(c.get("image_malformed", 0) + c.get("cloud_malformed", 0)),
             "last_answer_after_stream_s": (last * 1e-6 - end_unix_s) if last and end_unix_s else float("nan"),
             "result": result_line(os.path.join(work, run + ".txt")),

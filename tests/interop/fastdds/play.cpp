@@ -184,9 +184,9 @@ int Play(const PlayOptions& options) {
   const bool acknowledged = player.WaitForAcknowledgments(10, &late);
   std::printf(
       "{\"published\": %s, \"seconds\": %.3f, \"passes\": %d, \"start_unix_s\": %.3f, \"first_utime\": %lld, "
-      "\"end_unix_s\": %.3f}\n",
+      "\"end_unix_s\": %.3f, \"stamp_gaps\": %ld}\n",
       player.Json().c_str(), std::chrono::duration<double>(Clock::now() - start).count(), log.passes(), start_unix_s,
-      static_cast<long long>(first), end_unix_s);
+      static_cast<long long>(first), end_unix_s, log.stamp_gaps());
   std::fflush(stdout);
   if (!acknowledged) {
     std::fprintf(stderr, "fastdds_ros2_peer: samples on %s were not acknowledged within 10 s\n", late.c_str());

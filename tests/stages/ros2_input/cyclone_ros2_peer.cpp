@@ -232,9 +232,9 @@ int Play(const PlayOptions& o) {
   std::this_thread::sleep_for(std::chrono::milliseconds(500));  // let the last samples leave
   std::printf(
       "{\"published\": %s, \"seconds\": %.3f, \"passes\": %d, \"start_unix_s\": %.3f, \"first_utime\": %lld, "
-      "\"end_unix_s\": %.3f}\n",
+      "\"end_unix_s\": %.3f, \"stamp_gaps\": %ld}\n",
       player.Json().c_str(), std::chrono::duration<double>(Clock::now() - start).count(), recording.passes(),
-      start_unix_s, static_cast<long long>(first), end_unix_s);
+      start_unix_s, static_cast<long long>(first), end_unix_s, recording.stamp_gaps());
   dds_delete(participant);
   return 0;
 }
