@@ -253,9 +253,9 @@ void WriteFileSeeds() {
 
 // ROS 2 sensor messages in CDR behind the byte that chooses their type (entries_ros_cdr.cpp).
 template <typename M>
-void WriteRosCdrSeed(uint8_t selector, const std::string& name, const M& msg, testing_utils::CdrByteOrder order) {
+void WriteRosCdrSeed(uint8_t selector, const std::string& name, const M& msg, testing::CdrByteOrder order) {
   std::vector<uint8_t> bytes = {selector};
-  const std::vector<uint8_t> cdr = testing_utils::EncodeCdr(msg, order);
+  const std::vector<uint8_t> cdr = testing::EncodeCdr(msg, order);
   bytes.insert(bytes.end(), cdr.begin(), cdr.end());
   WriteBytes("ros_cdr", name, bytes);
 }
@@ -312,11 +312,11 @@ void WriteRosLivoxSeeds() {
   msg.timebase = 1700000000000005000ull;
   msg.points = {{0, 1.5f, -2.f, 0.25f, 10, 0x10, 0}, {5000, 3.f, 4.f, -5.f, 200, 0, 3}};
   msg.point_num = 2;
-  for (const auto order : {testing_utils::CdrByteOrder::kLittle, testing_utils::CdrByteOrder::kBig}) {
+  for (const auto order : {testing::CdrByteOrder::kLittle, testing::CdrByteOrder::kBig}) {
     std::vector<uint8_t> bytes = {0};
-    const std::vector<uint8_t> cdr = testing_utils::EncodeCdr(msg, order);
+    const std::vector<uint8_t> cdr = testing::EncodeCdr(msg, order);
     bytes.insert(bytes.end(), cdr.begin(), cdr.end());
-    WriteBytes("ros_livox", order == testing_utils::CdrByteOrder::kLittle ? "cdr_le" : "cdr_be", bytes);
+    WriteBytes("ros_livox", order == testing::CdrByteOrder::kLittle ? "cdr_le" : "cdr_be", bytes);
   }
   // ROS 1: seq, stamp, frame_id without NUL; timebase, point_num, lidar_id, rsvd; points packed (19 bytes).
   std::vector<uint8_t> ros1 = {1};
@@ -342,7 +342,7 @@ void WriteRosLivoxSeeds() {
 }
 
 void WriteRosCdrSeeds() {
-  using testing_utils::CdrByteOrder;
+  using testing::CdrByteOrder;
   WriteRosCdrSeed(0, "cloud_le", RosCloud(), CdrByteOrder::kLittle);
   WriteRosCdrSeed(0, "cloud_be", RosCloud(), CdrByteOrder::kBig);
   WriteRosCdrSeed(0, "cloud_livox_le", RosLivoxCloud(), CdrByteOrder::kLittle);

@@ -14,7 +14,7 @@
 namespace fusecal {
 namespace {
 
-using testing_utils::MakeStatus;
+using testing::MakeStatus;
 
 TEST(MemqBus, TypedRoundTrip) {
   auto bus = MakeBus("memq://");

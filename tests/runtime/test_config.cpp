@@ -214,7 +214,7 @@ TEST(StrictYaml, AQuoteLeftOpenIsAnErrorWhereItOpens) {
 TEST(StrictYaml, SyntaxErrorsAndDirectoriesNameTheFileAndLine) {
   ExpectYamlError("a: [1, 2\nb: 1\n", "f.yaml:");
   try {
-    LoadStrictYamlFile(testing::TempDir());
+    LoadStrictYamlFile(::testing::TempDir());
     ADD_FAILURE() << "a directory was read as YAML";
   } catch (const YamlError& e) {
     EXPECT_NE(std::string(e.what()).find("is a directory"), std::string::npos) << e.what();

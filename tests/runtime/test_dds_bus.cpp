@@ -30,12 +30,12 @@ const shm::PoolPlan kPlan = shm::PlanPools(8u << 20, 16);
 const std::string kUrl = "dds://?domain=18&shm=1&shm_max=" + std::to_string(shm::LargestShmMessage(kPlan));
 
 // The RouDi of this test run (the echo peer process uses its parent's).
-class RoudiEnvironment : public testing::Environment {
+class RoudiEnvironment : public ::testing::Environment {
  public:
   void SetUp() override {
     if (std::getenv("FUSECAL_DDS_ECHO_PEER")) return;
     ASSERT_TRUE(shm::WaitUntilRoudiGone()) << "another RouDi is running on this machine; stop it to run these tests";
-    roudi_ = std::make_unique<shm::RoudiProcess>(testing::TempDir() + "fusecal_dds_roudi_" + std::to_string(getpid()),
+    roudi_ = std::make_unique<shm::RoudiProcess>(::testing::TempDir() + "fusecal_dds_roudi_" + std::to_string(getpid()),
                                                  kPlan);
     roudi_->Start();
   }
@@ -51,7 +51,7 @@ class RoudiEnvironment : public testing::Environment {
 const std::string kUrl = "dds://?domain=17";
 #endif
 
-using testing_utils::MakeStatus;
+using testing::MakeStatus;
 
 TEST(DdsBus, TypedRoundTrip) {
   auto bus = MakeBus(kUrl);
@@ -179,16 +179,16 @@ TEST(DdsBus, RejectsBadUrls) {
 TEST(DdsBus, SharedMemoryWithoutRoudiFallsBackQuickly) {
   // Needs no RouDi on this machine; with one running the bus would use shared memory instead.
   ASSERT_TRUE(shm::WaitUntilRoudiGone()) << "a RouDi is running on this machine; stop it to run this test";
-  testing::internal::CaptureStderr();
+  ::testing::internal::CaptureStderr();
   const auto start = std::chrono::steady_clock::now();
   std::unique_ptr<Bus> bus;
   try {
     bus = MakeBus("dds://?domain=17&shm=1&depth=4");
   } catch (...) {
-    testing::internal::GetCapturedStderr();
+    ::testing::internal::GetCapturedStderr();
     throw;
   }
-  const std::string err = testing::internal::GetCapturedStderr();
+  const std::string err = ::testing::internal::GetCapturedStderr();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_LT(seconds, 5.0);
   EXPECT_NE(err.find("shm=1 but no iceoryx RouDi is running"), std::string::npos) << err;
@@ -214,10 +214,10 @@ TEST(DdsBus, MessageLargerThanTheBiggestChunkTakesTheNetworkPathAndSaysSo) {
   for (size_t i = 0; i < big.size(); ++i) big[i] = static_cast<uint8_t>(i * 7);
   std::vector<uint8_t> received;
   auto sub = bus.SubscribeRaw("HUGE", [&](const RawMessage& m) { received.assign(m.data, m.data + m.size); });
-  testing::internal::CaptureStderr();
+  ::testing::internal::CaptureStderr();
   bus.PublishRaw("HUGE", big.data(), big.size());
   bus.PublishRaw("HUGE", big.data(), big.size());
-  const std::string err = testing::internal::GetCapturedStderr();
+  const std::string err = ::testing::internal::GetCapturedStderr();
   for (int i = 0; i < 30 && received.empty(); ++i) bus.Handle(100);
   EXPECT_TRUE(received == big);
   EXPECT_NE(err.find("larger than the biggest shared-memory chunk"), std::string::npos) << err;
@@ -323,9 +323,9 @@ TEST(DdsBus, CrossProcessSixMegabyteRoundTrip) {
 }  // namespace fusecal
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
+  ::testing::InitGoogleTest(&argc, argv);
 #ifdef FUSECAL_DDS_TEST_SHM
-  testing::AddGlobalTestEnvironment(new fusecal::RoudiEnvironment);
+  ::testing::AddGlobalTestEnvironment(new fusecal::RoudiEnvironment);
 #endif
   return RUN_ALL_TESTS();
 }

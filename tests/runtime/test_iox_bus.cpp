@@ -29,7 +29,7 @@ namespace fusecal {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using testing_utils::MakeStatus;
+using testing::MakeStatus;
 
 // Pools for 8 MB messages; max= tells the bus what fits (as `fusecal run` does).
 const shm::PoolPlan kPlan = shm::PlanPools(8u << 20, 16);
@@ -37,12 +37,12 @@ const std::string kUrl = "iox://?max=" + std::to_string(shm::LargestShmMessage(k
 
 #ifndef FUSECAL_IOX_TEST_NO_ROUDI
 // The RouDi of this test process (the echo peer process uses its parent's).
-class RoudiEnvironment : public testing::Environment {
+class RoudiEnvironment : public ::testing::Environment {
  public:
   void SetUp() override {
     if (std::getenv("FUSECAL_IOX_ECHO_PEER")) return;
     ASSERT_TRUE(shm::WaitUntilRoudiGone()) << "another RouDi is running on this machine; stop it to run these tests";
-    roudi_ = std::make_unique<shm::RoudiProcess>(testing::TempDir() + "fusecal_iox_roudi_" + std::to_string(getpid()),
+    roudi_ = std::make_unique<shm::RoudiProcess>(::testing::TempDir() + "fusecal_iox_roudi_" + std::to_string(getpid()),
                                                  kPlan);
     roudi_->Start();
   }
@@ -384,7 +384,7 @@ TEST(IoxBus, WithoutRoudiFailsFastWithAClearError) {
 // check, sends 1 MB round it, and leaves no RouDi behind.
 TEST(IoxDoctor, ChecksTheSharedMemoryPathOverARoudiOfItsOwn) {
   ASSERT_TRUE(shm::WaitUntilRoudiGone()) << "a RouDi is running on this machine; stop it to run this test";
-  const auto doctor = testing_utils::RunCommand(std::string(FUSECAL_BIN) + " doctor --bus 'iox://' 2>&1");
+  const auto doctor = testing::RunCommand(std::string(FUSECAL_BIN) + " doctor --bus 'iox://' 2>&1");
   EXPECT_NE(doctor.output.find("iceoryx RouDi: "), std::string::npos) << doctor.output;
   EXPECT_NE(doctor.output.find("coordinator bus round trip"), std::string::npos) << doctor.output;
   EXPECT_NE(doctor.output.find("iox:// round trip: a 1 MB message went round iox://?max="), std::string::npos)
@@ -424,9 +424,9 @@ TEST(IoxChunk, ParsesOnlyItsOwnChunks) {
 }  // namespace fusecal
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
+  ::testing::InitGoogleTest(&argc, argv);
 #ifndef FUSECAL_IOX_TEST_NO_ROUDI
-  testing::AddGlobalTestEnvironment(new fusecal::RoudiEnvironment);
+  ::testing::AddGlobalTestEnvironment(new fusecal::RoudiEnvironment);
 #endif
   return RUN_ALL_TESTS();
 }

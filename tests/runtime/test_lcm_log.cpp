@@ -11,7 +11,7 @@ namespace fusecal {
 namespace {
 
 std::string TempPath(const std::string& name) {
-  return testing::TempDir() + "fusecal_" + name + "_" + std::to_string(::getpid()) + ".lcmlog";
+  return ::testing::TempDir() + "fusecal_" + name + "_" + std::to_string(::getpid()) + ".lcmlog";
 }
 
 void WriteThreeEvents(const std::string& path) {

@@ -14,7 +14,7 @@ namespace fusecal::shm {
 namespace {
 
 std::string TempDir(const std::string& name) {
-  return testing::TempDir() + "fusecal_shm_" + std::to_string(getpid()) + "_" + name;
+  return ::testing::TempDir() + "fusecal_shm_" + std::to_string(getpid()) + "_" + name;
 }
 
 TEST(SharedMemoryPools, LargestChunkHoldsTheLargestMessage) {

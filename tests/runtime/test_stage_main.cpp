@@ -16,7 +16,7 @@
 namespace fusecal {
 namespace {
 
-using testing_utils::RunCommand;
+using testing::RunCommand;
 const std::string kProbe = STAGE_PROBE_BIN;
 const std::string kUrl = "udpm://239.255.76.67:7672?ttl=0&recv_buf_size=67108864";
 
@@ -28,7 +28,7 @@ TEST(StageMain, HelpVersionAndBadConfig) {
   auto version = RunCommand(kProbe + " --version");
   EXPECT_EQ(version.exit_code, 0);
   EXPECT_NE(version.output.find("."), std::string::npos);
-  const std::string config = testing::TempDir() + "probe_bad_" + std::to_string(getpid()) + ".yaml";
+  const std::string config = ::testing::TempDir() + "probe_bad_" + std::to_string(getpid()) + ".yaml";
   std::ofstream(config) << "reply_prefix: x\nreply_prefx: y\n";
   auto bad = RunCommand(kProbe + " --config " + config + " 2>&1");
   EXPECT_EQ(bad.exit_code, 2);

@@ -2,7 +2,7 @@
 
 #include <cstring>
 
-namespace fusecal::testing_utils {
+namespace fusecal::testing {
 
 namespace {
 constexpr size_t kEncapsulationSize = 4;
@@ -138,4 +138,4 @@ std::vector<uint8_t> EncodeCdr(const RosLivoxCustomMsg& msg, CdrByteOrder order)
   return out.bytes();
 }
 
-}  // namespace fusecal::testing_utils
+}  // namespace fusecal::testing

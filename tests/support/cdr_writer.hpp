@@ -9,7 +9,7 @@
 
 #include "stages/formats/ros_sensor_messages.hpp"
 
-namespace fusecal::testing_utils {
+namespace fusecal::testing {
 
 enum class CdrByteOrder { kLittle, kBig };
 
@@ -42,4 +42,4 @@ std::vector<uint8_t> EncodeCdr(const RosCompressedImage& msg, CdrByteOrder order
 std::vector<uint8_t> EncodeCdr(const RosCameraInfo& msg, CdrByteOrder order = CdrByteOrder::kLittle);
 std::vector<uint8_t> EncodeCdr(const RosLivoxCustomMsg& msg, CdrByteOrder order = CdrByteOrder::kLittle);
 
-}  // namespace fusecal::testing_utils
+}  // namespace fusecal::testing

@@ -5,7 +5,7 @@
 
 #include "stages/foundation/point_cloud.hpp"
 
-namespace fusecal::testing_utils {
+namespace fusecal::testing {
 
 // The same points, intensities and rings, and time offsets within a microsecond.
 inline void ExpectSameCloud(const PointCloud& got, const PointCloud& want) {
@@ -16,4 +16,4 @@ inline void ExpectSameCloud(const PointCloud& got, const PointCloud& want) {
   for (size_t i = 0; i < got.time_offset_s.size(); ++i) EXPECT_NEAR(got.time_offset_s[i], want.time_offset_s[i], 1e-6);
 }
 
-}  // namespace fusecal::testing_utils
+}  // namespace fusecal::testing

@@ -9,7 +9,7 @@
 #include <iterator>
 #include <string>
 
-namespace fusecal::testing_utils {
+namespace fusecal::testing {
 
 struct CommandResult {
   int exit_code = -1;
@@ -46,4 +46,4 @@ inline pid_t StartInBackground(const std::string& command, const std::string& ou
   return pid;
 }
 
-}  // namespace fusecal::testing_utils
+}  // namespace fusecal::testing

@@ -4,7 +4,7 @@
 
 #include "tests/support/db3_test_writer.hpp"
 
-namespace fusecal::testing_utils {
+namespace fusecal::testing {
 
 std::string Ros2TypeName(const RosAnyMessage& msg) {
   const char* const names[] = {"Image", "CompressedImage", "PointCloud2", "CameraInfo"};
@@ -42,4 +42,4 @@ void WriteDb3Bag(const std::string& path, const std::vector<RecordedMessage>& re
   testing::WriteDb3(path, topics, messages);
 }
 
-}  // namespace fusecal::testing_utils
+}  // namespace fusecal::testing

@@ -11,7 +11,7 @@
 #include "tests/support/cdr_writer.hpp"
 #include "tests/support/mcap_test_writer.hpp"
 
-namespace fusecal::testing_utils {
+namespace fusecal::testing {
 
 using RosAnyMessage = std::variant<RosImage, RosCompressedImage, RosPointCloud2, RosCameraInfo>;
 
@@ -38,4 +38,4 @@ void WriteMcapBag(const std::string& path, const std::vector<RecordedMessage>& r
 // Replaces any file at `path`.
 void WriteDb3Bag(const std::string& path, const std::vector<RecordedMessage>& recording);
 
-}  // namespace fusecal::testing_utils
+}  // namespace fusecal::testing

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-namespace fusecal::testing_utils {
+namespace fusecal::testing {
 
 std_msgs::Header ToRos1(const RosHeader& header) {
   std_msgs::Header out;
@@ -78,4 +78,4 @@ void WriteRos1Bag(const std::string& path, const std::vector<RecordedMessage>& r
   }
 }
 
-}  // namespace fusecal::testing_utils
+}  // namespace fusecal::testing

@@ -13,7 +13,7 @@
 
 #include "tests/support/recorded_bags.hpp"
 
-namespace fusecal::testing_utils {
+namespace fusecal::testing {
 
 std_msgs::Header ToRos1(const RosHeader& header);
 sensor_msgs::Image ToRos1(const RosImage& msg);
@@ -24,4 +24,4 @@ sensor_msgs::CameraInfo ToRos1(const RosCameraInfo& msg);
 // Each message at its arrival time (`cdr` and `order` do not apply).
 void WriteRos1Bag(const std::string& path, const std::vector<RecordedMessage>& recording);
 
-}  // namespace fusecal::testing_utils
+}  // namespace fusecal::testing

@@ -5,7 +5,7 @@
 
 #include "fusecal/status_t.hpp"
 
-namespace fusecal::testing_utils {
+namespace fusecal::testing {
 
 inline status_t MakeStatus(const std::string& name) {
   status_t s{};
@@ -18,4 +18,4 @@ inline status_t MakeStatus(const std::string& name) {
   return s;
 }
 
-}  // namespace fusecal::testing_utils
+}  // namespace fusecal::testing

@@ -10,7 +10,7 @@
 #include "runtime/sim/simulator/scenario.hpp"
 #include "stages/foundation/camera_model.hpp"
 
-namespace fusecal::sim::test {
+namespace fusecal::testing {
 
 inline std::string ScenarioPath(const std::string& name) {
   return std::string(FUSECAL_SOURCE_DIR) + "/configs/scenarios/" + name;
@@ -44,7 +44,7 @@ inline bool SampleBilinear(const cv::Mat& image, const Eigen::Vector2d& px, doub
 
 // Pearson correlation of LiDAR intensity with the image grey value at the projection of each point
 // through T_camera_lidar.
-inline double IntensityCorrelation(const SimulatedScan& scan, const cv::Mat& image, const CameraModel& camera,
+inline double IntensityCorrelation(const sim::SimulatedScan& scan, const cv::Mat& image, const CameraModel& camera,
                                    const Isometry3& T_camera_lidar, size_t* used = nullptr) {
   std::vector<double> lidar, pixel;
   for (const auto& p : scan.points) {
@@ -59,4 +59,4 @@ inline double IntensityCorrelation(const SimulatedScan& scan, const cv::Mat& ima
   return Pearson(lidar, pixel);
 }
 
-}  // namespace fusecal::sim::test
+}  // namespace fusecal::testing

@@ -27,7 +27,7 @@ namespace fusecal {
 namespace {
 
 namespace fs = std::filesystem;
-using testing_utils::RecordedMessage;
+using testing::RecordedMessage;
 
 const std::string kCameraInfoTopic = "/kitti/camera_color_left/camera_info";
 const std::string kImageTopic = "/kitti/camera_color_left/image_raw";
@@ -108,15 +108,15 @@ std::vector<RecordedMessage> Recording(const fs::path& kitti, size_t frames) {
 }
 
 void WriteBag(const std::string& format, const std::vector<RecordedMessage>& recording, const fs::path& out) {
-  if (format == "ros1") return testing_utils::WriteRos1Bag((out / "kitti_ros1.bag").string(), recording);
+  if (format == "ros1") return testing::WriteRos1Bag((out / "kitti_ros1.bag").string(), recording);
   if (format == "db3") {
     const fs::path folder = out / "kitti_db3";
     fs::remove_all(folder);
     fs::create_directories(folder);
-    testing_utils::WriteDb3Bag((folder / "kitti_db3_0.db3").string(), recording);
+    testing::WriteDb3Bag((folder / "kitti_db3_0.db3").string(), recording);
     std::vector<testing::BagTopic> topics;
     std::vector<testing::BagMessage> messages;
-    testing_utils::ToRos2Bag(recording, topics, messages);
+    testing::ToRos2Bag(recording, topics, messages);
     return testing::WriteRosbag2Metadata(folder.string(), "sqlite3", {"kitti_db3_0.db3"}, topics, messages);
   }
   testing::McapWriteOptions options;
@@ -129,7 +129,7 @@ void WriteBag(const std::string& format, const std::vector<RecordedMessage>& rec
     options.compression = "";
   else
     throw std::runtime_error("unknown format '" + format + "' (mcap-zstd, mcap-lz4, mcap-none, db3, ros1)");
-  testing_utils::WriteMcapBag((out / ("kitti_" + format + ".mcap")).string(), recording, options);
+  testing::WriteMcapBag((out / ("kitti_" + format + ".mcap")).string(), recording, options);
 }
 
 }  // namespace

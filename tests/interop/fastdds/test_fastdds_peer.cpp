@@ -26,9 +26,9 @@ namespace fusecal {
 namespace {
 
 namespace fs = std::filesystem;
-using testing_utils::ReadAll;
-using testing_utils::RunCommand;
-using testing_utils::StartInBackground;
+using testing::ReadAll;
+using testing::RunCommand;
+using testing::StartInBackground;
 
 const std::string kPeer = FASTDDS_PEER_BIN;
 const std::string kFusecal = FUSECAL_BIN;

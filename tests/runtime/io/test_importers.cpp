@@ -24,10 +24,10 @@ namespace fusecal {
 namespace {
 
 namespace fs = std::filesystem;
-using testing_utils::RunCommand;
+using testing::RunCommand;
 
 std::string FreshDir(const std::string& name) {
-  const std::string dir = testing::TempDir() + "fusecal_import_" + std::to_string(getpid()) + "_" + name;
+  const std::string dir = ::testing::TempDir() + "fusecal_import_" + std::to_string(getpid()) + "_" + name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -224,7 +224,7 @@ TEST(KittiSnippet, ImportGivesAllFramesAndTheReferenceProjectsOntoEdges) {
     const double right = DepthEdgeToImageEdgeDistance(image, cloud, *camera, reference);
     const double wrong = DepthEdgeToImageEdgeDistance(image, cloud, *camera, rotated);
     EXPECT_LT(right, 0.8 * wrong) << "station " << station.id << ": depth edges do not sit on image edges";
-    cv::imwrite(testing::TempDir() + "kitti_overlay_" + std::to_string(station.id) + ".png",
+    cv::imwrite(::testing::TempDir() + "kitti_overlay_" + std::to_string(station.id) + ".png",
                 RenderDepthOverlay(image, cloud, *camera, reference));
     ++stations;
   }

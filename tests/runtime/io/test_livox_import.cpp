@@ -88,7 +88,7 @@ std::vector<PointCloud> ExpectedClouds() {
   return clouds;
 }
 
-using testing_utils::ExpectSameCloud;
+using testing::ExpectSameCloud;
 
 class LivoxReference : public ::testing::TestWithParam<std::string> {};
 

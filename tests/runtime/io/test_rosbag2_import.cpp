@@ -25,17 +25,17 @@ namespace fusecal {
 namespace {
 
 namespace fs = std::filesystem;
-using testing_utils::CdrByteOrder;
-using testing_utils::EncodeCdr;
-using testing_utils::RecordedMessage;
-using testing_utils::RosAnyMessage;
-using testing_utils::RunCommand;
-using testing_utils::SerializeCdr;
-using testing_utils::ToRos1;
-using testing_utils::ToRos2Bag;
-using testing_utils::WriteDb3Bag;
-using testing_utils::WriteMcapBag;
-using testing_utils::WriteRos1Bag;
+using testing::CdrByteOrder;
+using testing::EncodeCdr;
+using testing::RecordedMessage;
+using testing::RosAnyMessage;
+using testing::RunCommand;
+using testing::SerializeCdr;
+using testing::ToRos1;
+using testing::ToRos2Bag;
+using testing::WriteDb3Bag;
+using testing::WriteMcapBag;
+using testing::WriteRos1Bag;
 
 const std::string kFusecal = FUSECAL_BIN;
 const int64_t kT0 = 1700000000000000;

@@ -21,7 +21,7 @@ namespace fusecal {
 namespace {
 
 namespace fs = std::filesystem;
-using testing_utils::RunCommand;
+using testing::RunCommand;
 
 const std::string kKittiDir = KITTI_SNIPPET_DIR;
 const std::string kFusecal = FUSECAL_BIN;

@@ -28,12 +28,12 @@ namespace fusecal {
 namespace {
 
 namespace fs = std::filesystem;
-using testing_utils::RunCommand;
+using testing::RunCommand;
 
 const std::string kFusecal = FUSECAL_BIN;
 
 std::string TempPath(const std::string& name) {
-  return testing::TempDir() + "fusecal_rosbag_" + std::to_string(getpid()) + "_" + name;
+  return ::testing::TempDir() + "fusecal_rosbag_" + std::to_string(getpid()) + "_" + name;
 }
 
 ros::Time Stamp(int64_t utime) { return ros::Time(utime / 1000000, (utime % 1000000) * 1000); }

@@ -30,10 +30,10 @@ bool SameScan(const SimulatedScan& a, const SimulatedScan& b) {
 }
 
 // The default scenario's scene and camera, shared by the (slower) full-size tests.
-class SimDefaultScene : public testing::Test {
+class SimDefaultScene : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    scenario_ = new Scenario(LoadScenario(test::ScenarioPath("indoor-equirect-hdl64.yaml")));
+    scenario_ = new Scenario(LoadScenario(testing::ScenarioPath("indoor-equirect-hdl64.yaml")));
     scene_ = new Scene(BuildScene(*scenario_));
     trajectory_ = new Trajectory(BuildTrajectory(*scenario_));
     camera_ = MakeCameraModel(scenario_->camera.params).release();
@@ -145,7 +145,7 @@ TEST_F(SimDefaultScene, RenderMatchesCameraModelGeometry) {
 
 TEST(SimRender, PinholeRayTableMatchesModel) {
   // The interpolated ray table of a distorted pinhole camera agrees with CameraModel::Unproject.
-  const Scenario s = LoadScenario(test::ScenarioPath("indoor-pinhole-hdl64.yaml"));
+  const Scenario s = LoadScenario(testing::ScenarioPath("indoor-pinhole-hdl64.yaml"));
   const auto camera = MakeCameraModel(s.camera.params);
   const CameraRays rays(*camera, 2);
   ASSERT_EQ(rays.grid.rows(), 1440);
@@ -162,7 +162,7 @@ TEST(SimRender, PinholeRayTableMatchesModel) {
 }
 
 TEST(SimRender, SameSeedSameBytesDifferentSeedDifferent) {
-  const Scenario s = LoadScenario(test::ScenarioPath("tiny-equirect.yaml"));
+  const Scenario s = LoadScenario(testing::ScenarioPath("tiny-equirect.yaml"));
   const Scene scene = BuildScene(s);
   const auto camera = MakeCameraModel(s.camera.params);
   const Isometry3 T = BuildTrajectory(s).T_world_lidar(0.0) * s.T_camera_lidar.inverse();
@@ -190,7 +190,7 @@ TEST(SimRender, SameSeedSameBytesDifferentSeedDifferent) {
 }
 
 TEST(SimRender, SimulationIsDeterministicAndRandomAccessMatchesSequence) {
-  const Scenario s = LoadScenario(test::ScenarioPath("tiny-equirect.yaml"));
+  const Scenario s = LoadScenario(testing::ScenarioPath("tiny-equirect.yaml"));
   Simulation a(s), b(s, DefaultTextureDir(), 1);
   std::vector<cv::Mat> images;  // by camera frame index
   Event ea, eb;
@@ -238,7 +238,7 @@ TEST(SimRender, SimulationIsDeterministicAndRandomAccessMatchesSequence) {
 }
 
 TEST(SimRender, StationsAreGroundTruth) {
-  const Scenario s = LoadScenario(test::ScenarioPath("tiny-equirect.yaml"));
+  const Scenario s = LoadScenario(testing::ScenarioPath("tiny-equirect.yaml"));
   Simulation sim(s);
   const auto stations = sim.Stations();
   ASSERT_EQ(stations.size(), 5u);
@@ -264,7 +264,7 @@ TEST(SimRender, StationsAreGroundTruth) {
 // with the extrinsic in force at its time (before, between and after the changes, still and moving);
 // the LiDAR does not move.
 TEST(SimRender, CameraMovedOnItsMountIsRenderedWithTheExtrinsicInForce) {
-  Scenario s = LoadScenario(test::ScenarioPath("tiny-equirect.yaml"));
+  Scenario s = LoadScenario(testing::ScenarioPath("tiny-equirect.yaml"));
   s.motions.horizontal = 1;
   s.motions.vertical = 1;
   const Isometry3 delta_a = MakeIsometry(RotationFromRpy(0.02, 0, 0), {0.02, 0, 0});

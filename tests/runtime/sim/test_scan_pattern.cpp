@@ -19,7 +19,7 @@ constexpr double kDeg = 180.0 / M_PI;
 
 LidarParams Model(const std::string& model) {
   const std::string file = model == "rosette" ? "handheld-avia-pinhole.yaml" : "handheld-mid360-pinhole.yaml";
-  return LoadScenario(test::ScenarioPath(file)).lidar;
+  return LoadScenario(testing::ScenarioPath(file)).lidar;
 }
 
 double AzimuthDeg(const Eigen::Vector3f& d) { return std::atan2(d.y(), d.x()) * kDeg; }
@@ -78,7 +78,7 @@ TEST(ScanPattern, FramesDifferAndCoverageFillsInOverASecond) {
 }
 
 TEST(ScanPattern, ScansCarryLinesAndFiringTimes) {
-  const Scenario s = LoadScenario(test::ScenarioPath("handheld-avia-pinhole.yaml"));
+  const Scenario s = LoadScenario(testing::ScenarioPath("handheld-avia-pinhole.yaml"));
   const Scene scene = BuildScene(s);
   const LidarSensor lidar(s.lidar);
   Isometry3 T_world_lidar = Isometry3::Identity();

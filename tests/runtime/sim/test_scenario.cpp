@@ -23,7 +23,7 @@ std::string ReadFile(const std::string& path) {
 // Writes text to a temporary scenario file and loads it. The file is this process's own: ctest runs
 // these tests in parallel, one process each (a shared name let one test read another's scenario).
 Scenario LoadText(const std::string& text) {
-  const std::string path = testing::TempDir() + "/scenario_under_test_" + std::to_string(getpid()) + ".yaml";
+  const std::string path = ::testing::TempDir() + "/scenario_under_test_" + std::to_string(getpid()) + ".yaml";
   std::ofstream(path) << text;
   return LoadScenario(path);
 }
@@ -45,9 +45,9 @@ void ExpectErrorNaming(const std::string& text, const std::string& key) {
   }
 }
 
-class SimBadScenario : public testing::Test {
+class SimBadScenario : public ::testing::Test {
  protected:
-  const std::string base_ = ReadFile(test::ScenarioPath("tiny-equirect.yaml"));
+  const std::string base_ = ReadFile(testing::ScenarioPath("tiny-equirect.yaml"));
 };
 
 TEST(SimScenario, ShippedScenariosLoad) {
@@ -55,14 +55,14 @@ TEST(SimScenario, ShippedScenariosLoad) {
                            "tiny-equirect.yaml", "handheld-avia-pinhole.yaml", "handheld-mid360-pinhole.yaml"}) {
     SCOPED_TRACE(name);
     Scenario s;
-    ASSERT_NO_THROW(s = LoadScenario(test::ScenarioPath(name)));
+    ASSERT_NO_THROW(s = LoadScenario(testing::ScenarioPath(name)));
     EXPECT_TRUE(s.camera.params.Validate().empty());
     EXPECT_TRUE(IsValidTransform(s.T_camera_lidar));
   }
 }
 
 TEST(SimScenario, DefaultScenarioValues) {
-  const Scenario s = LoadScenario(test::ScenarioPath("indoor-equirect-hdl64.yaml"));
+  const Scenario s = LoadScenario(testing::ScenarioPath("indoor-equirect-hdl64.yaml"));
   EXPECT_EQ(s.scene, "indoor");
   EXPECT_EQ(s.camera.params.model, "equirectangular");
   EXPECT_EQ(s.camera.params.width, 2048);
@@ -83,7 +83,7 @@ TEST(SimScenario, DefaultScenarioValues) {
 }
 
 TEST(SimScenario, PinholeNinetyDegrees) {
-  const Scenario s = LoadScenario(test::ScenarioPath("indoor-pinhole-hdl64.yaml"));
+  const Scenario s = LoadScenario(testing::ScenarioPath("indoor-pinhole-hdl64.yaml"));
   EXPECT_EQ(s.camera.params.model, "pinhole");
   EXPECT_NEAR(2.0 * std::atan(s.camera.params.width / 2.0 / s.camera.params.fx) * 180 / M_PI, 90.0, 0.1);
 }
@@ -191,7 +191,7 @@ TEST_F(SimBadScenario, BadExtrinsicChanges) {
 }
 
 TEST(SimScenario, MissingFileIsConfigError) {
-  EXPECT_THROW(LoadScenario(testing::TempDir() + "/no-such-scenario.yaml"), ConfigError);
+  EXPECT_THROW(LoadScenario(::testing::TempDir() + "/no-such-scenario.yaml"), ConfigError);
 }
 
 }  // namespace

@@ -19,7 +19,7 @@ struct Correlations {
 // Renders station `station` of a scenario and correlates the scan with the image under the true and
 // perturbed extrinsics (1 deg about each camera axis, 5 cm along each).
 Correlations Measure(const std::string& scenario_file, int station) {
-  const Scenario s = LoadScenario(test::ScenarioPath(scenario_file));
+  const Scenario s = LoadScenario(testing::ScenarioPath(scenario_file));
   const Scene scene = BuildScene(s);
   const auto camera = MakeCameraModel(s.camera.params);
   const Isometry3 T_world_lidar = BuildTrajectory(s).stills().at(station).T_world_lidar;
@@ -31,24 +31,24 @@ Correlations Measure(const std::string& scenario_file, int station) {
 
   Correlations c;
   size_t used = 0;
-  c.truth = test::IntensityCorrelation(scan, image, *camera, s.T_camera_lidar, &used);
+  c.truth = testing::IntensityCorrelation(scan, image, *camera, s.T_camera_lidar, &used);
   EXPECT_GT(used, 10000u);
   for (int axis = 0; axis < 3; ++axis) {
     Isometry3 rotated = s.T_camera_lidar;
     rotated.prerotate(Eigen::AngleAxisd(M_PI / 180.0, Eigen::Vector3d::Unit(axis)));
-    c.perturbed.push_back(test::IntensityCorrelation(scan, image, *camera, rotated));
+    c.perturbed.push_back(testing::IntensityCorrelation(scan, image, *camera, rotated));
     Isometry3 shifted = s.T_camera_lidar;
     shifted.pretranslate(0.05 * Eigen::Vector3d::Unit(axis));
-    c.perturbed.push_back(test::IntensityCorrelation(scan, image, *camera, shifted));
+    c.perturbed.push_back(testing::IntensityCorrelation(scan, image, *camera, shifted));
   }
   return c;
 }
 
 void Record(const Correlations& c) {
-  testing::Test::RecordProperty("correlation_truth", std::to_string(c.truth));
+  ::testing::Test::RecordProperty("correlation_truth", std::to_string(c.truth));
   std::string perturbed;
   for (double p : c.perturbed) perturbed += std::to_string(p) + " ";
-  testing::Test::RecordProperty("correlation_perturbed", perturbed);
+  ::testing::Test::RecordProperty("correlation_perturbed", perturbed);
 }
 
 void ExpectAgreement(const Correlations& c) {
@@ -76,7 +76,7 @@ TEST(SimSensorAgreement, PinholeIntensityMatchesImage) {
 TEST(SimSensorAgreement, ScanPointsLieOnTheRoom) {
   // Noise-free 64-beam scan: every point is inside the 10 x 8 x 3 m room, and the points that hit the
   // floor are at z = 0 to float precision.
-  Scenario s = LoadScenario(test::ScenarioPath("indoor-equirect-hdl64.yaml"));
+  Scenario s = LoadScenario(testing::ScenarioPath("indoor-equirect-hdl64.yaml"));
   s.lidar.range_sigma_m = 0.0;
   s.lidar.dropout = 0.0;
   const Scene scene = BuildScene(s);
@@ -103,7 +103,7 @@ TEST(SimSensorAgreement, ScanPointsLieOnTheRoom) {
 TEST(SimSensorAgreement, MotionDistortionShiftsColumnsByTheirFiringTime) {
   // While turning, column c is taken at the pose of its own time: a point seen by the last columns
   // agrees with a scan at that later pose, not with one at the start pose.
-  const Scenario s = LoadScenario(test::ScenarioPath("tiny-equirect.yaml"));
+  const Scenario s = LoadScenario(testing::ScenarioPath("tiny-equirect.yaml"));
   const Scene scene = BuildScene(s);
   LidarParams params = s.lidar;
   params.range_sigma_m = 0.0;

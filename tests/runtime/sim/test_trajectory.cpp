@@ -12,9 +12,9 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-class SimTrajectoryTest : public testing::Test {
+class SimTrajectoryTest : public ::testing::Test {
  protected:
-  const Scenario scenario_ = LoadScenario(test::ScenarioPath("indoor-equirect-hdl64.yaml"));
+  const Scenario scenario_ = LoadScenario(testing::ScenarioPath("indoor-equirect-hdl64.yaml"));
   const Trajectory trajectory_ = BuildTrajectory(scenario_);
 };
 
@@ -124,7 +124,7 @@ TEST_F(SimTrajectoryTest, SeedDeterminesTrajectory) {
 }
 
 TEST(SimTrajectory, AlternatingTiltAxesAndGroupedOrder) {
-  Scenario s = LoadScenario(test::ScenarioPath("tiny-equirect.yaml"));
+  Scenario s = LoadScenario(testing::ScenarioPath("tiny-equirect.yaml"));
   s.motions.tilt_axis = "alternate";
   s.motions.order = "grouped";
   const Trajectory tr = BuildTrajectory(s);

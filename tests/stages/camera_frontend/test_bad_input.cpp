@@ -7,7 +7,8 @@
 #include "runtime/sim/fixtures/synthetic_room.hpp"
 #include "stages/camera_frontend/relative_pose.hpp"
 
-namespace fusecal::test {
+namespace fusecal {
+using namespace fusecal::fixtures;  // the synthetic room and the camera helpers
 namespace {
 
 const SyntheticRoom& Room() {
@@ -151,4 +152,4 @@ TEST(CameraFrontendBadInput, FeaturesOfAnotherCamera) {
 }
 
 }  // namespace
-}  // namespace fusecal::test
+}  // namespace fusecal

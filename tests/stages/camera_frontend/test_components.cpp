@@ -19,7 +19,8 @@
 #include "stages/camera_frontend/rotation_only.hpp"
 #include "stages/camera_frontend/settings.hpp"
 
-namespace fusecal::test {
+namespace fusecal {
+using namespace fusecal::fixtures;  // the synthetic room and the camera helpers
 namespace {
 
 using namespace fusecal::camera_frontend;
@@ -337,4 +338,4 @@ TEST(CameraFrontendFeatures, CheckImageExplainsProblems) {
 }
 
 }  // namespace
-}  // namespace fusecal::test
+}  // namespace fusecal

@@ -15,7 +15,8 @@
 #include "runtime/sim/fixtures/camera_frontend_helpers.hpp"
 #include "stages/camera_frontend/relative_pose.hpp"
 
-namespace fusecal::test {
+namespace fusecal {
+using namespace fusecal::fixtures;  // the synthetic room and the camera helpers
 namespace {
 
 const std::string kSnippet = FUSECAL_KITTI_SNIPPET_DIR;
@@ -83,4 +84,4 @@ TEST(KittiPairs, StandingCarFlagsTranslation) {
 }
 
 }  // namespace
-}  // namespace fusecal::test
+}  // namespace fusecal

@@ -12,7 +12,8 @@
 #include "runtime/sim/fixtures/synthetic_room.hpp"
 #include "stages/camera_frontend/relative_pose.hpp"
 
-namespace fusecal::test {
+namespace fusecal {
+using namespace fusecal::fixtures;  // the synthetic room and the camera helpers
 namespace {
 
 constexpr double kMaxRotationErrorDeg = 0.05;
@@ -216,4 +217,4 @@ TEST(CameraFrontendSynthetic, FeatureOverloadAndColourInputAgree) {
 }
 
 }  // namespace
-}  // namespace fusecal::test
+}  // namespace fusecal

@@ -22,8 +22,8 @@
 namespace fusecal {
 namespace {
 
-using testing_utils::CdrByteOrder;
-using testing_utils::EncodeCdr;
+using testing::CdrByteOrder;
+using testing::EncodeCdr;
 using Bytes = std::vector<uint8_t>;
 
 constexpr uint64_t kStampNs = 1700000000123456789ull;
@@ -252,7 +252,7 @@ RosPointCloud2 LivoxPointCloud2(const RosLivoxCustomMsg& custom, double time_sca
   return msg;
 }
 
-using testing_utils::ExpectSameCloud;
+using testing::ExpectSameCloud;
 
 TEST(LivoxPointCloud2, GivesWhatTheCustomMsgOfTheSameScanGives) {
   const RosLivoxCustomMsg custom = SampleCustomMsg();

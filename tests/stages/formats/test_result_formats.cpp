@@ -16,7 +16,7 @@
 namespace fusecal {
 namespace {
 
-using testing_utils::RunCommand;
+using testing::RunCommand;
 
 CalibrationResult SampleResult() {
   CalibrationResult r;
@@ -33,7 +33,7 @@ CalibrationResult SampleResult() {
 }
 
 std::string TempFile(const std::string& name) {
-  return testing::TempDir() + "fusecal_" + std::to_string(getpid()) + "_" + name;
+  return ::testing::TempDir() + "fusecal_" + std::to_string(getpid()) + "_" + name;
 }
 
 TEST(ResultFile, WriteThenReadKeepsTheTransform) {

@@ -17,8 +17,8 @@
 namespace fusecal {
 namespace {
 
-using testing_utils::CdrByteOrder;
-using testing_utils::EncodeCdr;
+using testing::CdrByteOrder;
+using testing::EncodeCdr;
 using Bytes = std::vector<uint8_t>;
 
 const CdrByteOrder kOrders[] = {CdrByteOrder::kLittle, CdrByteOrder::kBig};

@@ -22,7 +22,7 @@
 namespace fusecal::fusion_odometry {
 namespace {
 
-using fo_test::Rad;
+using fixtures::Rad;
 
 CameraParams Pinhole() {
   CameraParams p;

@@ -24,30 +24,30 @@
 namespace fusecal::fusion_odometry {
 namespace {
 
-using fo_test::Deg;
+using fixtures::Deg;
 
 double DirectionErrorDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return Deg(std::atan2(a.cross(b).norm(), a.dot(b)));
 }
 
 TEST(Kitti, ScaledCameraMotionAgreesWithLidarMotionThroughOfficialExtrinsic) {
-  if (!fo_test::KittiAvailable())
-    GTEST_SKIP() << "KITTI snippet not found at " << fo_test::KittiDir()
+  if (!fixtures::KittiAvailable())
+    GTEST_SKIP() << "KITTI snippet not found at " << fixtures::KittiDir()
                  << " (expected image_02/data/*.png, velodyne_points/data/*.bin, calib_cam_to_cam.txt)";
 #if !FUSECAL_FO_HAVE_LIDAR_ICP
   GTEST_SKIP() << "the ICP stage (fusecal::lidar_icp) is not part of this build: no LiDAR motion to compare with";
 #else
-  const KittiCalibration calib = ReadKittiCalibration(fo_test::KittiDir());
+  const KittiCalibration calib = ReadKittiCalibration(fixtures::KittiDir());
   const auto camera = MakeCameraModel(calib.camera);
   const Isometry3& X = calib.T_camera_lidar;
   int pairs = 0;
   double worst_rotation = 0, worst_direction = 0, worst_length = 0;
   for (int a = 0; a <= 36; a += 4) {
     const int b = a + 4;
-    const PointCloud scan_a = ReadScan(fo_test::KittiScanPath(a));
-    const PointCloud scan_b = ReadScan(fo_test::KittiScanPath(b));
-    const cv::Mat image_a = cv::imread(fo_test::KittiImagePath(a), cv::IMREAD_UNCHANGED);
-    const cv::Mat image_b = cv::imread(fo_test::KittiImagePath(b), cv::IMREAD_UNCHANGED);
+    const PointCloud scan_a = ReadScan(fixtures::KittiScanPath(a));
+    const PointCloud scan_b = ReadScan(fixtures::KittiScanPath(b));
+    const cv::Mat image_a = cv::imread(fixtures::KittiImagePath(a), cv::IMREAD_UNCHANGED);
+    const cv::Mat image_b = cv::imread(fixtures::KittiImagePath(b), cv::IMREAD_UNCHANGED);
     ASSERT_FALSE(image_a.empty() || image_b.empty()) << "frames " << a << ", " << b;
     const lidar_icp::RegistrationResult icp = lidar_icp::Register(scan_a, scan_b);
     ASSERT_TRUE(icp.usable()) << "ICP " << a << " -> " << b << ": " << icp.failure_reason;

@@ -14,8 +14,8 @@
 namespace fusecal::fusion_odometry {
 namespace {
 
-using fo_test::Deg;
-using fo_test::SimData;
+using fixtures::Deg;
+using fixtures::SimData;
 
 struct MotionError {
   double rotation_deg = 0;
@@ -37,10 +37,10 @@ MotionRun RunMotion(const SimData& data, size_t s, const Isometry3& extrinsic,
                     const FusionOdometrySettings& settings = {}) {
   const auto& i = data.stations[s];
   const auto& j = data.stations[s + 1];
-  const Isometry3 A_true = fo_test::TrueCameraMotion(i, j);
-  const Isometry3 B_true = fo_test::TrueLidarMotion(i, j);
+  const Isometry3 A_true = fixtures::TrueCameraMotion(i, j);
+  const Isometry3 B_true = fixtures::TrueLidarMotion(i, j);
   // The rough initial extrinsic the hand-eye initialisation might give: 3 cm and 2 deg off.
-  const Isometry3 X_rough = fo_test::PerturbExtrinsic(data.T_camera_lidar, 0.03, 2.0);
+  const Isometry3 X_rough = fixtures::PerturbExtrinsic(data.T_camera_lidar, 0.03, 2.0);
   MotionRun run;
   run.first = EstimateScaledMotion(i.scan, i.image, j.image, *data.camera, extrinsic,
                                    MotionGuess{CameraMotionFromLidar(X_rough, B_true), false}, settings);
@@ -60,7 +60,7 @@ MotionRun RunMotion(const SimData& data, size_t s, const Isometry3& extrinsic,
 class SimulatedTiny : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    data_ = new SimData(fo_test::SimulateStations(sim::LoadScenario(fo_test::ScenarioPath("tiny-equirect.yaml"))));
+    data_ = new SimData(fixtures::SimulateStations(sim::LoadScenario(fixtures::ScenarioPath("tiny-equirect.yaml"))));
   }
   static void TearDownTestSuite() {
     delete data_;
@@ -106,7 +106,7 @@ void CheckPerturbationCurve(const SimData& data, const char* name, bool expect_g
       {0.0, 0.0}, {0.01, 0.2}, {0.025, 0.5}, {0.05, 1.0}, {0.1, 2.0}};
   std::vector<double> rotation_deg, translation_mm;
   for (const auto& [dt, dr] : perturbations) {
-    const Isometry3 X = fo_test::PerturbExtrinsic(data.T_camera_lidar, dt, dr);
+    const Isometry3 X = fixtures::PerturbExtrinsic(data.T_camera_lidar, dt, dr);
     double rot = 0, trans = 0;
     int n = 0;
     std::printf(" %s, extrinsic off by %.3f m, %.2f deg:\n", name, dt, dr);
@@ -151,7 +151,7 @@ TEST_F(SimulatedTiny, MotionErrorGrowsSmoothlyWithExtrinsicError) {
 // The paper's pinhole case: indoor-pinhole-hdl64 with the image and the LiDAR reduced (640x360, 32 beams)
 // and fewer motions, to keep the test fast.
 std::string ReducedPinholeScenario() {
-  std::ifstream in(fo_test::ScenarioPath("indoor-pinhole-hdl64.yaml"));
+  std::ifstream in(fixtures::ScenarioPath("indoor-pinhole-hdl64.yaml"));
   std::stringstream text;
   text << in.rdbuf();
   std::string yaml = text.str();
@@ -178,7 +178,7 @@ std::string ReducedPinholeScenario() {
 class SimulatedPinhole : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    data_ = new SimData(fo_test::SimulateStations(sim::ParseScenario(ReducedPinholeScenario())));
+    data_ = new SimData(fixtures::SimulateStations(sim::ParseScenario(ReducedPinholeScenario())));
     std::printf(" reduced pinhole scenario: %zu stations, rendered in %.1f s\n", data_->stations.size(),
                 data_->seconds_render);
   }

@@ -12,7 +12,7 @@ namespace fusecal::lidar_icp {
 namespace {
 
 PointCloud RoomScan(const Isometry3& pose, uint32_t seed) {
-  return testing::SimulateScan(testing::MakeRoom(), pose, testing::Hdl64Pattern(1000), 0.015, seed);
+  return fixtures::SimulateScan(fixtures::MakeRoom(), pose, fixtures::Hdl64Pattern(1000), 0.015, seed);
 }
 
 void ExpectFailure(const PointCloud& a, const PointCloud& b, const std::string& reason_part,
@@ -49,7 +49,7 @@ TEST(RegistrationBadInput, FewerThan100Points) {
 TEST(RegistrationBadInput, UnrelatedScans) {
   const PointCloud a = RoomScan(Isometry3::Identity(), 1);
   const PointCloud b =
-      testing::SimulateScan(testing::MakeOtherRoom(), Isometry3::Identity(), testing::Hdl64Pattern(1000), 0.015, 2);
+      fixtures::SimulateScan(fixtures::MakeOtherRoom(), Isometry3::Identity(), fixtures::Hdl64Pattern(1000), 0.015, 2);
   RegistrationResult r;
   EXPECT_NO_THROW(r = Register(a, b));
   EXPECT_FALSE(r.usable());

@@ -42,16 +42,16 @@ double Median(std::vector<double> v) {
 }
 
 // Station i at the room origin; station j = station i moved by B = T_li_lj.
-void RunMotions(const testing::ScanPattern& pattern, const std::vector<Motion>& motions, double max_median_deg,
+void RunMotions(const fixtures::ScanPattern& pattern, const std::vector<Motion>& motions, double max_median_deg,
                 double max_median_m, double max_each_deg, double max_each_m) {
-  const testing::Scene room = testing::MakeRoom();
+  const fixtures::Scene room = fixtures::MakeRoom();
   const Isometry3 T_w_li = MakeIsometry(RotationFromRpy(0.0, 0.0, 0.3), Eigen::Vector3d(0.2, -0.1, 0.0));
-  const PointCloud scan_i = testing::SimulateScan(room, T_w_li, pattern, 0.015, 1);
+  const PointCloud scan_i = fixtures::SimulateScan(room, T_w_li, pattern, 0.015, 1);
   std::vector<double> rot, tra;
   for (size_t k = 0; k < motions.size(); ++k) {
     const Motion& m = motions[k];
     const Isometry3 B = ToTransform(m);
-    const PointCloud scan_j = testing::SimulateScan(room, T_w_li * B, pattern, 0.015, 100 + uint32_t(k));
+    const PointCloud scan_j = fixtures::SimulateScan(room, T_w_li * B, pattern, 0.015, 100 + uint32_t(k));
     const RegistrationResult r = Register(scan_i, scan_j);
     const Errors e = Compare(r.T_li_lj, B);
     std::printf(
@@ -80,12 +80,12 @@ TEST(RegistrationSynthetic, MultiBeamRoomMotionsWithoutGuess) {
       {"yaw -170 roll 15", -170, 0, 15, {0.8, 0.5, 0.0}},    {"yaw 60 pitch 45", 60, 45, 0, {0.1, -0.2, 0.2}},
       {"yaw 145 pitch -35", 145, -35, 5, {-0.6, -0.5, 0.1}},
   };
-  RunMotions(testing::Hdl64Pattern(), motions, 0.02, 0.005, 0.1, 0.02);
+  RunMotions(fixtures::Hdl64Pattern(), motions, 0.02, 0.005, 0.1, 0.02);
 }
 
 TEST(RegistrationSynthetic, Yaw170Pitch30WithoutGuess) {
   // Recovered without a guess: the multi-beam scans then overlap in about a third of their points.
-  RunMotions(testing::Hdl64Pattern(), {{"yaw 170 pitch 30", 170, 30, 0, {0.3, -0.4, 0.1}}}, 0.03, 0.005, 0.03, 0.005);
+  RunMotions(fixtures::Hdl64Pattern(), {{"yaw 170 pitch 30", 170, 30, 0, {0.3, -0.4, 0.1}}}, 0.03, 0.005, 0.03, 0.005);
 }
 
 TEST(RegistrationSynthetic, DensePanoramicRoomMotionsWithoutGuess) {
@@ -94,14 +94,14 @@ TEST(RegistrationSynthetic, DensePanoramicRoomMotionsWithoutGuess) {
       {"yaw -170 pitch -30", -170, -30, 0, {-0.3, 0.7, 0.1}},
       {"yaw 45 roll -25", 45, 0, -25, {0.9, 0.0, 0.0}},
   };
-  RunMotions(testing::PanoramicPattern(), motions, 0.02, 0.005, 0.05, 0.01);
+  RunMotions(fixtures::PanoramicPattern(), motions, 0.02, 0.005, 0.05, 0.01);
 }
 
 TEST(RegistrationSynthetic, CovarianceIsConsistentWithTheResult) {
-  const testing::Scene room = testing::MakeRoom();
+  const fixtures::Scene room = fixtures::MakeRoom();
   const Isometry3 B = ToTransform({"", 75, -15, 0, {0.4, 0.2, 0.0}});
-  const PointCloud scan_i = testing::SimulateScan(room, Isometry3::Identity(), testing::Hdl64Pattern(1000), 0.015, 3);
-  const PointCloud scan_j = testing::SimulateScan(room, B, testing::Hdl64Pattern(1000), 0.015, 4);
+  const PointCloud scan_i = fixtures::SimulateScan(room, Isometry3::Identity(), fixtures::Hdl64Pattern(1000), 0.015, 3);
+  const PointCloud scan_j = fixtures::SimulateScan(room, B, fixtures::Hdl64Pattern(1000), 0.015, 4);
   const RegistrationResult r = Register(scan_i, scan_j);
   ASSERT_TRUE(r.usable()) << r.failure_reason;
   EXPECT_TRUE(r.failure_reason.text.empty());
@@ -122,12 +122,13 @@ TEST(RegistrationSynthetic, CovarianceIsConsistentWithTheResult) {
 
 TEST(RegistrationSynthetic, DegenerateGeometryIsReported) {
   // Only a floor in range (walls and ceiling beyond 120 m): yaw and horizontal translation are free.
-  testing::Scene floor;
+  fixtures::Scene floor;
   floor.room = {{-1000.0, -1000.0, -1.2}, {1000.0, 1000.0, 500.0}};
-  const PointCloud scan_i = testing::SimulateScan(floor, Isometry3::Identity(), testing::Hdl64Pattern(1000), 0.015, 5);
+  const PointCloud scan_i =
+      fixtures::SimulateScan(floor, Isometry3::Identity(), fixtures::Hdl64Pattern(1000), 0.015, 5);
   const PointCloud scan_j =
-      testing::SimulateScan(floor, MakeIsometry(RotationFromRpy(0, 0, 0.3), Eigen::Vector3d(0.2, 0.1, 0)),
-                            testing::Hdl64Pattern(1000), 0.015, 6);
+      fixtures::SimulateScan(floor, MakeIsometry(RotationFromRpy(0, 0, 0.3), Eigen::Vector3d(0.2, 0.1, 0)),
+                             fixtures::Hdl64Pattern(1000), 0.015, 6);
   ASSERT_GT(scan_i.size(), 10000u);
   const RegistrationResult r = Register(scan_i, scan_j);
   EXPECT_FALSE(r.usable());
@@ -137,10 +138,10 @@ TEST(RegistrationSynthetic, DegenerateGeometryIsReported) {
 }
 
 TEST(RegistrationSynthetic, GuessIsUsedAndResultIsTheSame) {
-  const testing::Scene room = testing::MakeRoom();
+  const fixtures::Scene room = fixtures::MakeRoom();
   const Isometry3 B = ToTransform({"", 40, 15, 0, {0.3, 0.1, 0.0}});
-  const PointCloud scan_i = testing::SimulateScan(room, Isometry3::Identity(), testing::Hdl64Pattern(1000), 0.015, 1);
-  const PointCloud scan_j = testing::SimulateScan(room, B, testing::Hdl64Pattern(1000), 0.015, 2);
+  const PointCloud scan_i = fixtures::SimulateScan(room, Isometry3::Identity(), fixtures::Hdl64Pattern(1000), 0.015, 1);
+  const PointCloud scan_j = fixtures::SimulateScan(room, B, fixtures::Hdl64Pattern(1000), 0.015, 2);
   RegistrationSettings local;
   local.global_alignment = false;
   Isometry3 guess = B;

@@ -12,8 +12,8 @@
 namespace fusecal {
 namespace {
 
-using testing_utils::CdrByteOrder;
-using testing_utils::EncodeCdr;
+using testing::CdrByteOrder;
+using testing::EncodeCdr;
 
 const int64_t kT0 = 1700000000000000;
 

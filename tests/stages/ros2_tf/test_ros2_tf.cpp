@@ -39,7 +39,7 @@ pid_t Start(const std::string& config, const std::string& log) {
 }
 
 TEST(Ros2Tf, AStaticTransformReachesARos2ReaderWithTheConfiguredFrames) {
-  const std::string dir = testing::TempDir() + "fusecal_ros2_tf_" + std::to_string(getpid());
+  const std::string dir = ::testing::TempDir() + "fusecal_ros2_tf_" + std::to_string(getpid());
   const std::string config = dir + ".yaml", log = dir + ".log";
   std::ofstream(config) << "ros2_tf:\n  domain: " << kDomain
                         << "\n  parent_frame: cam_front\n  child_frame: velo_top\n";
@@ -123,7 +123,7 @@ TEST(Ros2Tf, AStaticTransformReachesARos2ReaderWithTheConfiguredFrames) {
 // rt/diagnostics the verdict and the estimate.
 TEST(Ros2Tf, TheOverlayImageAndTheDiagnosticsReachRos2Readers) {
   constexpr int kViewsDomain = 39;
-  const std::string dir = testing::TempDir() + "fusecal_ros2_views_" + std::to_string(getpid());
+  const std::string dir = ::testing::TempDir() + "fusecal_ros2_views_" + std::to_string(getpid());
   const std::string config = dir + ".yaml", log = dir + ".log";
   std::ofstream(config) << "ros2_tf:\n  domain: " << kViewsDomain << "\n  overlay_topic: /calib/overlay\n";
   const dds_entity_t participant = dds_create_participant(kViewsDomain, nullptr, nullptr);

@@ -10,7 +10,7 @@
 namespace fusecal {
 namespace {
 
-using namespace stationarity_test;
+using namespace fixtures;
 
 bool Contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 

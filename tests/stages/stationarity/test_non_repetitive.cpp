@@ -9,7 +9,7 @@
 namespace fusecal {
 namespace {
 
-using namespace stationarity_test;
+using namespace fixtures;
 
 // A handheld scenario made short (2 turns, 2 tilts) and its camera small (640 x 360) for the test's time.
 const Recording& HandheldRecording(const std::string& file) {

@@ -12,7 +12,7 @@
 #include "stages/stationarity/node/stationarity_node.hpp"
 
 using namespace fusecal;
-using namespace fusecal::stationarity_test;
+using namespace fusecal::fixtures;
 
 namespace {
 

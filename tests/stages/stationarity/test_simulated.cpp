@@ -10,7 +10,7 @@
 namespace fusecal {
 namespace {
 
-using namespace stationarity_test;
+using namespace fixtures;
 
 // Checks every station against the recording's truth; returns the number of problems (each reported).
 void ExpectOneStationPerInterval(const Recording& r, const std::vector<EmittedStation>& stations,

@@ -25,8 +25,8 @@ std::vector<std::string> SplitFields(const std::string& line) {
 TEST(BenchTransport, QuickRunWritesTheCsvContract) {
   const std::string csv = ::testing::TempDir() + "bench_transport_quick.csv";
   std::remove(csv.c_str());
-  const auto run = fusecal::testing_utils::RunCommand(std::string(BENCH_TRANSPORT_BIN) +
-                                                      " --quick --transports lcm-tuned,dds-udp --out " + csv + " 2>&1");
+  const auto run = fusecal::testing::RunCommand(std::string(BENCH_TRANSPORT_BIN) +
+                                                " --quick --transports lcm-tuned,dds-udp --out " + csv + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
 
   std::ifstream in(csv);

@@ -18,8 +18,8 @@ TEST(BenchTransportIox, QuickRunOfTheZeroCopyRowsDeliversEverythingAt30Hz) {
   ASSERT_TRUE(fusecal::shm::WaitUntilRoudiGone()) << "a RouDi is running on this machine; stop it to run this test";
   const std::string csv = ::testing::TempDir() + "bench_transport_iox_quick.csv";
   std::remove(csv.c_str());
-  const auto run = fusecal::testing_utils::RunCommand(std::string(BENCH_TRANSPORT_BIN) +
-                                                      " --quick --transports iox,iceoryx-raw --out " + csv + " 2>&1");
+  const auto run = fusecal::testing::RunCommand(std::string(BENCH_TRANSPORT_BIN) +
+                                                " --quick --transports iox,iceoryx-raw --out " + csv + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   std::ifstream in(csv);
   ASSERT_TRUE(in) << "no CSV at " << csv << "\n" << run.output;

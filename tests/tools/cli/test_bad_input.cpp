@@ -26,9 +26,9 @@
 namespace fusecal {
 namespace {
 
-using testing_utils::ReadAll;
-using testing_utils::RunCommand;
-using testing_utils::StartInBackground;
+using testing::ReadAll;
+using testing::RunCommand;
+using testing::StartInBackground;
 
 const std::string kFusecal = FUSECAL_BIN;
 const std::string kScenarios = SCENARIO_DIR;
@@ -36,7 +36,7 @@ const std::string kConfig = PIPELINE_CONFIG;
 
 std::string Dir() {
   static const std::string dir = [] {
-    const std::string d = testing::TempDir() + "fusecal_bad_" + std::to_string(getpid());
+    const std::string d = ::testing::TempDir() + "fusecal_bad_" + std::to_string(getpid());
     RunCommand("mkdir -p " + d);
     return d;
   }();
@@ -529,7 +529,7 @@ std::vector<BadCase> AllCases() {
   return all;
 }
 
-class BadInput : public testing::TestWithParam<BadCase> {};
+class BadInput : public ::testing::TestWithParam<BadCase> {};
 
 TEST_P(BadInput, ClearErrorNamingTheInputAndNoCrashNoConvergence) {
   const BadCase& c = GetParam();
@@ -544,8 +544,8 @@ TEST_P(BadInput, ClearErrorNamingTheInputAndNoCrashNoConvergence) {
   EXPECT_EQ(r.output.find("status: converged"), std::string::npos) << r.output;
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, BadInput, testing::ValuesIn(AllCases()),
-                         [](const testing::TestParamInfo<BadCase>& info) { return info.param.name; });
+INSTANTIATE_TEST_SUITE_P(Cases, BadInput, ::testing::ValuesIn(AllCases()),
+                         [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.name; });
 
 // Identical scans are not an error: the motion between them is the identity.
 TEST(BadInputBoundaries, IdenticalScansRegisterToTheIdentity) {

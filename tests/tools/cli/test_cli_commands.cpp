@@ -15,14 +15,14 @@
 namespace fusecal {
 namespace {
 
-using testing_utils::ReadAll;
-using testing_utils::RunCommand;
-using testing_utils::StartInBackground;
+using testing::ReadAll;
+using testing::RunCommand;
+using testing::StartInBackground;
 const std::string kFusecal = FUSECAL_BIN;
 const std::string kScenarios = SCENARIO_DIR;
 
 std::string Temp(const std::string& name) {
-  return testing::TempDir() + "fusecal_cli_" + std::to_string(getpid()) + "_" + name;
+  return ::testing::TempDir() + "fusecal_cli_" + std::to_string(getpid()) + "_" + name;
 }
 
 #ifdef FUSECAL_WITH_DDS

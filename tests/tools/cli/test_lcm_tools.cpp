@@ -20,9 +20,9 @@
 namespace fusecal {
 namespace {
 
-using testing_utils::ReadAll;
-using testing_utils::RunCommand;
-using testing_utils::StartInBackground;
+using testing::ReadAll;
+using testing::RunCommand;
+using testing::StartInBackground;
 const std::string kFusecal = FUSECAL_BIN;
 const std::string kScenarios = SCENARIO_DIR;
 // Ports of their own, so that nothing else on the machine talks into the tests.
@@ -30,7 +30,7 @@ const std::string kLoggerBus = "udpm://239.255.76.67:7697?ttl=0&recv_buf_size=67
 const std::string kPlayerBus = "udpm://239.255.76.67:7698?ttl=0&recv_buf_size=67108864";
 
 std::string Temp(const std::string& name) {
-  return testing::TempDir() + "fusecal_lcm_tools_" + std::to_string(getpid()) + "_" + name;
+  return ::testing::TempDir() + "fusecal_lcm_tools_" + std::to_string(getpid()) + "_" + name;
 }
 
 // Polls `done` every 100 ms for up to `seconds`.
@@ -65,7 +65,7 @@ double DifferenceDeg(const std::string& a, const std::string& b, double* transla
   return j["rot_err_deg"].get<double>();
 }
 
-class LcmTools : public testing::Test {
+class LcmTools : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     log_ = Temp("small.lcmlog");

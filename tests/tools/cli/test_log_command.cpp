@@ -15,10 +15,10 @@
 namespace fusecal {
 namespace {
 
-using testing_utils::RunCommand;
+using testing::RunCommand;
 
 std::string WriteSampleLog() {
-  const std::string path = testing::TempDir() + "fusecal_cli_" + std::to_string(getpid()) + ".lcmlog";
+  const std::string path = ::testing::TempDir() + "fusecal_cli_" + std::to_string(getpid()) + ".lcmlog";
   LogWriter writer(path);
   station_t station{};
   station.utime = 5000000;
@@ -84,7 +84,7 @@ TEST(LogCommand, InfoCountsChannels) {
 }
 
 TEST(LogCommand, GarbageAndTruncatedLogsFailClearly) {
-  const std::string garbage = testing::TempDir() + "fusecal_garbage_" + std::to_string(getpid());
+  const std::string garbage = ::testing::TempDir() + "fusecal_garbage_" + std::to_string(getpid());
   std::ofstream(garbage) << "definitely not a log";
   for (const char* sub : {" log info ", " log dump "}) {
     const auto result = RunCommand(std::string(FUSECAL_BIN) + sub + garbage + " 2>&1");

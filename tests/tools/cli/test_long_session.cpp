@@ -116,7 +116,7 @@ TEST(HandEyeNodeLimit, HoldsAtMostMaxMotionsAndListsEveryHeldPair) {
 }
 
 std::string TempDir(const std::string& name) {
-  const std::string dir = testing::TempDir() + "fusecal_long_" + std::to_string(getpid()) + "_" + name;
+  const std::string dir = ::testing::TempDir() + "fusecal_long_" + std::to_string(getpid()) + "_" + name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

@@ -24,19 +24,19 @@
 namespace fusecal {
 namespace {
 
-using testing_utils::ReadAll;
-using testing_utils::RunCommand;
-using testing_utils::StartInBackground;
+using testing::ReadAll;
+using testing::RunCommand;
+using testing::StartInBackground;
 const std::string kFusecal = FUSECAL_BIN;
 const std::string kScenarios = SCENARIO_DIR;
 // A port of its own, so that nothing else on the machine talks into the test.
 const std::string kBus = "udpm://239.255.76.67:7683?ttl=0&recv_buf_size=67108864";
 
 std::string Temp(const std::string& name) {
-  return testing::TempDir() + "fusecal_e2e_" + std::to_string(getpid()) + "_" + name;
+  return ::testing::TempDir() + "fusecal_e2e_" + std::to_string(getpid()) + "_" + name;
 }
 
-class Pipeline : public testing::Test {
+class Pipeline : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     log_ = Temp("small.lcmlog");

@@ -23,7 +23,7 @@
 #include "stages/camera_frontend/relative_pose.hpp"
 
 using namespace fusecal;
-using namespace fusecal::test;
+using namespace fusecal::fixtures;
 
 namespace {
 

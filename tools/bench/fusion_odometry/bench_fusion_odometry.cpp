@@ -24,7 +24,7 @@
 
 using namespace fusecal;
 using namespace fusecal::fusion_odometry;
-using fo_test::Deg;
+using fixtures::Deg;
 
 namespace {
 
@@ -89,16 +89,16 @@ void PrintResult(const char* label, const FusionOdometryResult& r, double rot_er
 
 double RunSim(const std::string& path, int max_stations, int* count) {
   const sim::Scenario scenario = sim::LoadScenario(path);
-  const fo_test::SimData data = fo_test::SimulateStations(scenario, max_stations);
+  const fixtures::SimData data = fixtures::SimulateStations(scenario, max_stations);
   std::printf("simulated %s: %zu stations, %dx%d %s, rendered in %.1f s\n", path.c_str(), data.stations.size(),
               data.camera->width(), data.camera->height(), data.camera->params().model.c_str(), data.seconds_render);
   double total = 0;
-  const Isometry3 X0 = fo_test::PerturbExtrinsic(data.T_camera_lidar, 0.03, 2.0);
+  const Isometry3 X0 = fixtures::PerturbExtrinsic(data.T_camera_lidar, 0.03, 2.0);
   for (size_t s = 0; s + 1 < data.stations.size(); ++s) {
     const auto& i = data.stations[s];
     const auto& j = data.stations[s + 1];
-    const Isometry3 A_true = fo_test::TrueCameraMotion(i, j);
-    const Isometry3 B_true = fo_test::TrueLidarMotion(i, j);
+    const Isometry3 A_true = fixtures::TrueCameraMotion(i, j);
+    const Isometry3 B_true = fixtures::TrueLidarMotion(i, j);
     std::printf(" motion %d -> %d (%.1f deg, %.3f m)\n", i.id, j.id, Deg(RotationAngle(A_true.linear())),
                 A_true.translation().norm());
     // First iteration: rough guess X0 B X0^-1, not reliable (P3P RANSAC); then the refined one as guess.
@@ -144,23 +144,23 @@ double RunKitti(int* count) {
   (void)count;
   return 0;
 #else
-  if (!fo_test::KittiAvailable()) {
-    std::printf("KITTI snippet not found at %s: skipped\n", fo_test::KittiDir().c_str());
+  if (!fixtures::KittiAvailable()) {
+    std::printf("KITTI snippet not found at %s: skipped\n", fixtures::KittiDir().c_str());
     return 0;
   }
-  const KittiCalibration calib = ReadKittiCalibration(fo_test::KittiDir());
+  const KittiCalibration calib = ReadKittiCalibration(fixtures::KittiDir());
   const auto camera = MakeCameraModel(calib.camera);
   const Isometry3 X = calib.T_camera_lidar;
   const int gap = std::getenv("FO_GAP") ? std::atoi(std::getenv("FO_GAP")) : 4;
-  std::printf("KITTI %s: %dx%d, frame pairs %d frame indices (%d files) apart\n", fo_test::KittiDir().c_str(),
+  std::printf("KITTI %s: %dx%d, frame pairs %d frame indices (%d files) apart\n", fixtures::KittiDir().c_str(),
               camera->width(), camera->height(), gap, gap / 2);
   double total = 0;
   for (int a = 0; a <= 32; a += 8) {
     const int b = a + gap;
-    const PointCloud scan_a = ReadScan(fo_test::KittiScanPath(a));
-    const PointCloud scan_b = ReadScan(fo_test::KittiScanPath(b));
-    const cv::Mat image_a = cv::imread(fo_test::KittiImagePath(a), cv::IMREAD_UNCHANGED);
-    const cv::Mat image_b = cv::imread(fo_test::KittiImagePath(b), cv::IMREAD_UNCHANGED);
+    const PointCloud scan_a = ReadScan(fixtures::KittiScanPath(a));
+    const PointCloud scan_b = ReadScan(fixtures::KittiScanPath(b));
+    const cv::Mat image_a = cv::imread(fixtures::KittiImagePath(a), cv::IMREAD_UNCHANGED);
+    const cv::Mat image_b = cv::imread(fixtures::KittiImagePath(b), cv::IMREAD_UNCHANGED);
     const lidar_icp::RegistrationResult icp = lidar_icp::Register(scan_a, scan_b);
     const Isometry3 A_ref = CameraMotionFromLidar(X, icp.T_li_lj);
     std::printf(" %02d -> %02d: ICP %s %s, %.3f m, %.3f deg (%.2f s)\n", a, b, icp.usable() ? "ok" : "failed",
@@ -210,7 +210,7 @@ double RunKitti(int* count) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string scenario = fo_test::ScenarioPath("indoor-equirect-hdl64.yaml");
+  std::string scenario = fixtures::ScenarioPath("indoor-equirect-hdl64.yaml");
   int stations = 5;
   bool kitti = true, simulated = true;
   for (int k = 1; k < argc; ++k) {

@@ -184,7 +184,7 @@ int main(int argc, char** argv) {
     std::printf("\nKITTI snippet not found at %s: KITTI pair skipped\n", kitti.c_str());
   }
 
-  const fusecal::testing::Scene room = fusecal::testing::MakeRoom();
+  const fusecal::fixtures::Scene room = fusecal::fixtures::MakeRoom();
   struct Motion {
     const char* name;
     double yaw, pitch;
@@ -195,8 +195,8 @@ int main(int argc, char** argv) {
     const Isometry3 B =
         fusecal::MakeIsometry(fusecal::RotationFromRpy(0, m.pitch * M_PI / 180, m.yaw * M_PI / 180), m.t);
     const PointCloud a =
-        fusecal::testing::SimulateScan(room, Isometry3::Identity(), fusecal::testing::Hdl64Pattern(), 0.015, 1);
-    const PointCloud b = fusecal::testing::SimulateScan(room, B, fusecal::testing::Hdl64Pattern(), 0.015, 2);
+        fusecal::fixtures::SimulateScan(room, Isometry3::Identity(), fusecal::fixtures::Hdl64Pattern(), 0.015, 1);
+    const PointCloud b = fusecal::fixtures::SimulateScan(room, B, fusecal::fixtures::Hdl64Pattern(), 0.015, 2);
     Report(m.name, RunAll(a, b, repeat, pcl, pcl_voxel), &B, ToPcl(a), ToPcl(b));
   }
   std::printf("\nload average at end: %s\n", load().c_str());

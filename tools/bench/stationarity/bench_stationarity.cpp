@@ -16,7 +16,7 @@
 #include "runtime/sim/fixtures/stationarity_test_util.hpp"
 
 using namespace fusecal;
-using namespace fusecal::stationarity_test;
+using namespace fusecal::fixtures;
 
 namespace {
 
