@@ -110,10 +110,30 @@ class Bus {
     });
   }
 
-  // The same on a typed channel: `bus.Subscribe(typed_channels::kStation, [](const station_t& s) {...})`.
+  // The same on a pipeline channel: `bus.Subscribe(channels::kStation, [](const station_t& s) {...})`.
   template <typename M, typename Handler>
   Subscription Subscribe(const Channel<M>& channel, Handler handler) {
     return Subscribe<M>(std::string(channel.name), std::move(handler));
+  }
+
+  // The same for a watcher that must outlive a bad message: one that does not decode goes to `on_error`
+  // (with what Handle() would have raised) instead of raising from Handle().
+  template <typename M, typename Handler>
+  Subscription Subscribe(const Channel<M>& channel, Handler handler, std::function<void(const std::string&)> on_error) {
+    return SubscribeRaw(channel.name,
+                        [handler = std::move(handler), on_error = std::move(on_error)](const RawMessage& raw) mutable {
+                          M message;
+                          try {
+                            DecodeMessage(raw.data, raw.size, raw.channel, &message);
+                          } catch (const BusError& e) {
+                            on_error(e.what());
+                            return;
+                          }
+                          if constexpr (std::is_invocable_v<Handler&, const M&, const RawMessage&>)
+                            handler(message, raw);
+                          else
+                            handler(message);
+                        });
   }
 };
 

@@ -35,7 +35,8 @@ struct Channel {
   bool large;
 };
 
-namespace typed_channels {
+// The channels: the one spelling for publishing, subscribing and naming (`channels::kStation.name`).
+namespace channels {
 inline constexpr Channel<image_t> kCameraImage{"CAMERA_IMAGE", ChannelKind::kBulk, true};
 inline constexpr Channel<point_cloud_t> kLidarScan{"LIDAR_SCAN", ChannelKind::kBulk, true};
 inline constexpr Channel<camera_info_t> kCameraInfo{"CAMERA_INFO", ChannelKind::kState, false};
@@ -46,20 +47,6 @@ inline constexpr Channel<motion_set_t> kFusedMotions{"FUSED_MOTIONS", ChannelKin
 inline constexpr Channel<extrinsic_t> kExtrinsic{"EXTRINSIC", ChannelKind::kState, false};
 inline constexpr Channel<status_t> kStatus{"STATUS", ChannelKind::kState, false};  // 1 Hz heartbeat
 inline constexpr Channel<ground_truth_t> kGroundTruth{"GROUND_TRUTH", ChannelKind::kState, false};
-}  // namespace typed_channels
-
-// The names alone, for code that deals in names (logs, patterns, tables).
-namespace channels {
-inline constexpr const char* kCameraImage = typed_channels::kCameraImage.name;
-inline constexpr const char* kLidarScan = typed_channels::kLidarScan.name;
-inline constexpr const char* kCameraInfo = typed_channels::kCameraInfo.name;
-inline constexpr const char* kStation = typed_channels::kStation.name;
-inline constexpr const char* kLidarMotion = typed_channels::kLidarMotion.name;
-inline constexpr const char* kCameraMotion = typed_channels::kCameraMotion.name;
-inline constexpr const char* kFusedMotions = typed_channels::kFusedMotions.name;
-inline constexpr const char* kExtrinsic = typed_channels::kExtrinsic.name;
-inline constexpr const char* kStatus = typed_channels::kStatus.name;
-inline constexpr const char* kGroundTruth = typed_channels::kGroundTruth.name;
 }  // namespace channels
 
 // How a bus carries the channel called `name`: its kind and whether its messages are large. What every
@@ -77,11 +64,10 @@ constexpr ChannelTraits TraitsOf(const Channel<M>& channel) {
 
 // Every channel of the pipeline.
 inline constexpr ChannelTraits kPipelineChannels[] = {
-    TraitsOf(typed_channels::kCameraImage),  TraitsOf(typed_channels::kLidarScan),
-    TraitsOf(typed_channels::kCameraInfo),   TraitsOf(typed_channels::kStation),
-    TraitsOf(typed_channels::kLidarMotion),  TraitsOf(typed_channels::kCameraMotion),
-    TraitsOf(typed_channels::kFusedMotions), TraitsOf(typed_channels::kExtrinsic),
-    TraitsOf(typed_channels::kStatus),       TraitsOf(typed_channels::kGroundTruth)};
+    TraitsOf(channels::kCameraImage),  TraitsOf(channels::kLidarScan),   TraitsOf(channels::kCameraInfo),
+    TraitsOf(channels::kStation),      TraitsOf(channels::kLidarMotion), TraitsOf(channels::kCameraMotion),
+    TraitsOf(channels::kFusedMotions), TraitsOf(channels::kExtrinsic),   TraitsOf(channels::kStatus),
+    TraitsOf(channels::kGroundTruth)};
 
 // The pipeline channel called `name`, or nullptr.
 inline const ChannelTraits* FindPipelineChannel(const std::string& name) {

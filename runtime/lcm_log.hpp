@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "runtime/channels.hpp"
+
 namespace fusecal {
 
 class LogError : public std::runtime_error {
@@ -71,6 +73,11 @@ class LogWriter {
     std::vector<uint8_t> buffer(message.getEncodedSize());
     message.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
     Write(channel, utime, buffer.data(), buffer.size());
+  }
+  // The same on a pipeline channel: the message type is checked at compile time.
+  template <typename M>
+  void WriteMessage(const Channel<M>& channel, int64_t utime, const M& message) {
+    WriteMessage<M>(channel.name, utime, message);
   }
   // Flushes and closes; throws LogError if the data could not be written completely.
   void Close();

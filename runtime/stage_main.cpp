@@ -48,7 +48,7 @@ void PublishStatus(Bus& bus, const std::string& name, const StageStatus& status,
   msg.counter_values.push_back(static_cast<double>(bus.dropped_messages()));
   msg.num_counters = static_cast<int32_t>(msg.counter_names.size());
   msg.last_error = last_error;
-  bus.Publish(kStatusChannel, msg);
+  bus.Publish(channels::kStatus, msg);
 }
 
 int StageMain(int argc, char** argv, const StageDefinition& stage) {

@@ -43,7 +43,6 @@ struct StageDefinition {
 };
 
 // Channel of the heartbeat.
-inline constexpr const char* kStatusChannel = channels::kStatus;
 
 // The section `name` of the pipeline config file (an empty section when absent). Only that section is
 // checked here; `fusecal run` and `fusecal calibrate` check the whole file.

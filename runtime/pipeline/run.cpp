@@ -37,28 +37,29 @@ struct PipelineWatch {
   std::map<std::string, int> pids;                    // stage name -> pid of its latest STATUS
   bool player_done = false;                           // a player (another host's run) has said "done"
   std::string player_host;
+  long undecodable = 0;  // messages here that did not decode (the log has them)
   std::vector<Subscription> subs;
 
   explicit PipelineWatch(Bus& bus) {
-    auto on_motion = [this](const RawMessage& raw) {
-      motion_t m{};
-      if (m.decode(raw.data, 0, static_cast<int>(raw.size)) < 0) return;
+    const auto on_error = [this](const std::string&) { ++undecodable; };  // the session log says which
+    const auto on_motion = [this](const motion_t& m) {
       motions_for.insert({m.sensor, m.station_j});
       if (!m.valid) failed_for.insert(m.station_j);
     };
-    subs.push_back(bus.SubscribeRaw(channels::kLidarMotion, on_motion));
-    subs.push_back(bus.SubscribeRaw(channels::kCameraMotion, on_motion));
-    subs.push_back(bus.SubscribeRaw(channels::kStatus, [this](const RawMessage& raw) {
-      status_t s{};
-      if (s.decode(raw.data, 0, static_cast<int>(raw.size)) < 0) return;
-      if (s.name == kPlayerName) {
-        player_done = s.state == "done";
-        player_host = s.host;
-      }
-      if (s.state == "stopped" || s.name == kPlayerName) return;
-      alive.insert(s.name);
-      pids[s.name] = s.pid;
-    }));
+    subs.push_back(bus.Subscribe(channels::kLidarMotion, on_motion, on_error));
+    subs.push_back(bus.Subscribe(channels::kCameraMotion, on_motion, on_error));
+    subs.push_back(bus.Subscribe(
+        channels::kStatus,
+        [this](const status_t& s) {
+          if (s.name == kPlayerName) {
+            player_done = s.state == "done";
+            player_host = s.host;
+          }
+          if (s.state == "stopped" || s.name == kPlayerName) return;
+          alive.insert(s.name);
+          pids[s.name] = s.pid;
+        },
+        on_error));
   }
 };
 
@@ -280,7 +281,7 @@ class PipelineRun {
     first_ready_ = {};
     for (const auto* p : ready) resupplied_[p->name] = p->pid;
     const auto& camera_info = session_.camera_info_bytes();  // stationarity needs it for every station
-    if (!camera_info.empty()) bus_->PublishRaw(channels::kCameraInfo, camera_info.data(), camera_info.size());
+    if (!camera_info.empty()) bus_->PublishRaw(channels::kCameraInfo.name, camera_info.data(), camera_info.size());
     for (const auto& [id, station] : session_.kept_stations()) bus_->Publish(channels::kStation, station);
   }
 
@@ -334,9 +335,9 @@ class PipelineRun {
       if (ResupplyPending()) Pump(config_.idle_timeout_s, [&] { return !ResupplyPending(); });
       const size_t stations_before = session_.stations().size();
       bus_->PublishRaw(ch, ev->data.data(), ev->data.size());
-      if (ch == channels::kStation) ++stations_played_;
+      if (ch == channels::kStation.name) ++stations_played_;
       if (options_.live) continue;  // sensors do not wait
-      if (ch == channels::kStation) {
+      if (ch == channels::kStation.name) {
         station_t s{};
         s.decode(ev->data.data(), 0, static_cast<int>(ev->data.size()));
         WaitForStation(s.id);

@@ -27,18 +27,18 @@ SessionRecord::SessionRecord(Bus& bus, const std::string& dir, const RecordSetti
   subscriptions_.push_back(bus.SubscribeRaw(".*", [this](const RawMessage& raw) {
     const std::string& ch = raw.channel;
     if (log_) log_->Write(ch, raw.receive_utime, raw.data, raw.size, camera_info_bytes_);
-    if (ch == channels::kStation) {
+    if (ch == channels::kStation.name) {
       OnStation(raw);
-    } else if (ch == channels::kExtrinsic) {
+    } else if (ch == channels::kExtrinsic.name) {
       OnExtrinsic(raw);
-    } else if (ch == channels::kCameraInfo) {
+    } else if (ch == channels::kCameraInfo.name) {
       camera_info_bytes_.assign(raw.data, raw.data + raw.size);
-    } else if (ch == channels::kGroundTruth) {
+    } else if (ch == channels::kGroundTruth.name) {
       ground_truth_t g{};
       if (Decode(raw, &g)) ground_truth_ = g;
-    } else if (ch == channels::kLidarMotion || ch == channels::kCameraMotion) {
+    } else if (ch == channels::kLidarMotion.name || ch == channels::kCameraMotion.name) {
       OnMotion(raw);
-    } else if (ch == channels::kStatus) {
+    } else if (ch == channels::kStatus.name) {
       status_t s{};
       if (!Decode(raw, &s) || s.name == kPlayerName) return;
       stage_states_[s.name] = {s.state, s.last_error};
@@ -77,7 +77,7 @@ void SessionRecord::OnMotion(const RawMessage& raw) {
     ++failed_motions_;
     const std::string reason = raw.channel + ": " + m.failure_reason.substr(0, 200);
     if (failure_reasons_.count(reason) || failure_reasons_.size() < kMaxFailureReasons) ++failure_reasons_[reason];
-  } else if (raw.channel == channels::kLidarMotion) {
+  } else if (raw.channel == channels::kLidarMotion.name) {
     ++lidar_motions_;
   } else {
     ++camera_motions_;
@@ -106,15 +106,16 @@ bool LogHasStations(const std::string& log_path) {
   for (int i = 0; i < 500; ++i) {
     auto event = reader.Next();
     if (!event) return false;
-    if (event->channel == channels::kStation) return true;
+    if (event->channel == channels::kStation.name) return true;
   }
   return false;
 }
 
 bool FeedsPipeline(const std::string& ch, bool use_detector) {
-  if (ch == channels::kGroundTruth) return true;
-  if (ch == channels::kStation) return !use_detector;
-  const bool raw = ch == channels::kCameraImage || ch == channels::kLidarScan || ch == channels::kCameraInfo;
+  if (ch == channels::kGroundTruth.name) return true;
+  if (ch == channels::kStation.name) return !use_detector;
+  const bool raw =
+      ch == channels::kCameraImage.name || ch == channels::kLidarScan.name || ch == channels::kCameraInfo.name;
   return raw && use_detector;
 }
 

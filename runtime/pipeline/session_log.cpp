@@ -10,7 +10,7 @@ namespace fusecal {
 namespace {
 
 bool IsRawFrame(const std::string& channel) {
-  return channel == channels::kCameraImage || channel == channels::kLidarScan;
+  return channel == channels::kCameraImage.name || channel == channels::kLidarScan.name;
 }
 
 // Bytes an event takes in an LCM log: sync word, event number, utime, channel and data lengths.
@@ -42,8 +42,8 @@ void SessionLog::StartSegment(int64_t utime, const std::vector<uint8_t>& camera_
   segments_.push_back({dir_ + "/raw/raw-" + std::to_string(next_segment_++) + ".lcmlog", 0.0});
   segment_ = std::make_unique<LogWriter>(segments_.back().path);
   if (!camera_info.empty()) {
-    segment_->Write(channels::kCameraInfo, utime, camera_info.data(), camera_info.size());
-    segments_.back().bytes += EventBytes(channels::kCameraInfo, camera_info.size());
+    segment_->Write(channels::kCameraInfo.name, utime, camera_info.data(), camera_info.size());
+    segments_.back().bytes += EventBytes(channels::kCameraInfo.name, camera_info.size());
   }
   double total = 0;
   for (const auto& s : segments_) total += s.bytes;

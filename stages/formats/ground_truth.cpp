@@ -49,7 +49,7 @@ std::vector<ground_truth_t> ReadGroundTruths(const std::string& log_path) {
   LogReader reader(log_path);
   std::vector<ground_truth_t> truths;
   while (auto event = reader.Next()) {
-    if (event->channel != channels::kGroundTruth) continue;
+    if (event->channel != channels::kGroundTruth.name) continue;
     ground_truth_t message{};
     if (message.decode(event->data.data(), 0, static_cast<int>(event->data.size())) >= 0)
       truths.push_back(std::move(message));

@@ -29,12 +29,12 @@ template <typename Prepared>
 class StationPairNode : public StageNode {
  public:
   // `sensor` names the motions ("lidar", "camera"); they are published on `channel`.
-  StationPairNode(std::string sensor, std::string channel, int previous_stations)
-      : sensor_(std::move(sensor)), channel_(std::move(channel)), previous_stations_(previous_stations) {}
+  StationPairNode(std::string sensor, Channel<motion_t> channel, int previous_stations)
+      : sensor_(std::move(sensor)), channel_(channel), previous_stations_(previous_stations) {}
 
   void Start(Bus& bus) override {
     subscriptions_.push_back(
-        bus.Subscribe(typed_channels::kStation, [this, &bus](const station_t& s) { OnStation(bus, s); }));
+        bus.Subscribe(channels::kStation, [this, &bus](const station_t& s) { OnStation(bus, s); }));
   }
 
   StageStatus Status() const override {
@@ -92,7 +92,8 @@ class StationPairNode : public StageNode {
     published_[station_id].push_back(motion);
   }
 
-  std::string sensor_, channel_;
+  std::string sensor_;
+  Channel<motion_t> channel_;
   int previous_stations_;
   std::deque<std::pair<int, Prepared>> previous_;   // (station id, prepared), by id, highest last
   std::map<int, std::vector<motion_t>> published_;  // per station, for repeats

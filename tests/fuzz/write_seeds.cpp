@@ -403,7 +403,7 @@ void WriteMcapSeeds() {
 // A fusecal::lcm_message sample as DdsBus writes it, serialized with its encapsulation header.
 std::vector<uint8_t> DdsSample(const std::vector<uint8_t>& lcm, uint32_t xcdr_version, bool big_endian) {
   fusecal_lcm_message m{};
-  std::string channel = channels::kStatus;
+  std::string channel = channels::kStatus.name;
   m.channel = channel.data();
   m.utime = 1700000000000000;
   m.seq_number = 7;

@@ -35,11 +35,10 @@ TEST(MemqBus, TypedChannelsTakePlainLambdas) {
   auto bus = MakeBus("memq://");
   std::vector<std::string> names;
   std::string raw_channel;
-  auto sub = bus->Subscribe(typed_channels::kStatus, [&](const status_t& m) { names.push_back(m.name); });
-  auto with_raw = bus->Subscribe(typed_channels::kStatus, [&](const status_t& m, const RawMessage& raw) {
-    raw_channel = raw.channel + "/" + m.name;
-  });
-  bus->Publish(typed_channels::kStatus, MakeStatus("probe"));
+  auto sub = bus->Subscribe(channels::kStatus, [&](const status_t& m) { names.push_back(m.name); });
+  auto with_raw = bus->Subscribe(
+      channels::kStatus, [&](const status_t& m, const RawMessage& raw) { raw_channel = raw.channel + "/" + m.name; });
+  bus->Publish(channels::kStatus, MakeStatus("probe"));
   EXPECT_EQ(bus->Handle(100), 2);
   EXPECT_EQ(names, std::vector<std::string>{"probe"});
   EXPECT_EQ(raw_channel, "STATUS/probe");
@@ -138,6 +137,23 @@ TEST(MemqBus, WrongTypeOnChannelIsAClearError) {
   } catch (const BusError& e) {
     EXPECT_NE(std::string(e.what()).find("STATUS"), std::string::npos) << e.what();
   }
+}
+
+// A watcher that must outlive a bad message gives decode failures to its error callback: Handle() does not
+// raise, the good messages after it still arrive.
+TEST(MemqBus, ATypedSubscriptionWithAnErrorCallbackOutlivesABadMessage) {
+  auto bus = MakeBus("memq://");
+  std::vector<std::string> errors, names;
+  auto sub = bus->Subscribe(
+      channels::kStatus, [&](const status_t& s) { names.push_back(s.name); },
+      [&](const std::string& error) { errors.push_back(error); });
+  const uint8_t garbage[3] = {1, 2, 3};
+  bus->PublishRaw(channels::kStatus.name, garbage, sizeof(garbage));
+  bus->Publish(channels::kStatus, MakeStatus("after"));
+  EXPECT_NO_THROW(while (bus->Handle(100) > 0){});
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].find("STATUS"), std::string::npos) << errors[0];
+  EXPECT_EQ(names, std::vector<std::string>{"after"});
 }
 
 TEST(BusFactory, UnknownUrlsAreRejected) {

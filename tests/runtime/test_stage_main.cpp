@@ -39,9 +39,9 @@ TEST(StageMain, HeartbeatSurvivesHandlerErrorsAndStopsCleanlyOnSigterm) {
   auto bus = MakeBus(kUrl);
   std::vector<status_t> statuses;
   std::vector<std::string> replies;
-  auto s1 = bus->Subscribe<status_t>(kStatusChannel, std::function<void(const status_t&)>([&](const status_t& m) {
-                                       if (m.name == "probe") statuses.push_back(m);
-                                     }));
+  auto s1 = bus->Subscribe(channels::kStatus, std::function<void(const status_t&)>([&](const status_t& m) {
+                             if (m.name == "probe") statuses.push_back(m);
+                           }));
   auto s2 = bus->SubscribeRaw(
       "PROBE_OUT", [&](const RawMessage& m) { replies.emplace_back(reinterpret_cast<const char*>(m.data), m.size); });
 

@@ -14,8 +14,8 @@ namespace fusecal::testing {
 namespace {
 
 bool IsSensorEvent(const LogEvent& event) {
-  return event.channel == channels::kCameraInfo || event.channel == channels::kCameraImage ||
-         event.channel == channels::kLidarScan;
+  return event.channel == channels::kCameraInfo.name || event.channel == channels::kCameraImage.name ||
+         event.channel == channels::kLidarScan.name;
 }
 
 template <typename Message>
@@ -38,7 +38,7 @@ double ScanSpanS(const point_cloud_t& scan) {
 // When the event ends: a scan at its last point.
 int64_t EndUtime(const LogEvent& event) {
   point_cloud_t scan;
-  if (event.channel != channels::kLidarScan || !Decode(event, &scan)) return event.utime;
+  if (event.channel != channels::kLidarScan.name || !Decode(event, &scan)) return event.utime;
   return event.utime + std::llround(ScanSpanS(scan) * 1e6);
 }
 
@@ -74,8 +74,8 @@ std::optional<LogEvent> LoopedRecording::NextStreamed() {
 
 std::optional<LogEvent> LoopedRecording::Next() {
   std::optional<LogEvent> event = NextEvent();
-  if (event && event->channel == channels::kCameraImage) image_gaps_.Add(event->utime);
-  if (event && event->channel == channels::kLidarScan) scan_gaps_.Add(event->utime);
+  if (event && event->channel == channels::kCameraImage.name) image_gaps_.Add(event->utime);
+  if (event && event->channel == channels::kLidarScan.name) scan_gaps_.Add(event->utime);
   return event;
 }
 
@@ -99,7 +99,7 @@ LogEvent LoopedRecording::Restamped(size_t index, bool backward, int64_t base) c
   LogEvent event = events_[index];
   const int64_t utime = backward ? base + (last_utime_ - EndUtime(event)) : base + (event.utime - first_utime_);
   event.utime = utime;
-  if (event.channel == channels::kLidarScan) {
+  if (event.channel == channels::kLidarScan.name) {
     point_cloud_t scan;
     if (!Decode(event, &scan)) return event;
     if (backward) {
@@ -108,7 +108,7 @@ LogEvent LoopedRecording::Restamped(size_t index, bool backward, int64_t base) c
     }
     scan.utime = utime;
     Encode(scan, &event);
-  } else if (event.channel == channels::kCameraImage) {
+  } else if (event.channel == channels::kCameraImage.name) {
     image_t image;
     if (!Decode(event, &image)) return event;
     image.utime = utime;

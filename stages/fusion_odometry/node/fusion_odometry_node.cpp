@@ -48,16 +48,16 @@ FusionOdometryNodeSettings ReadFusionOdometryNodeSettings(ConfigReader r) {
 }
 
 void FusionOdometryNode::Start(Bus& bus) {
-  subscriptions_.push_back(bus.Subscribe(typed_channels::kStation, [this, &bus](const station_t& s) {
+  subscriptions_.push_back(bus.Subscribe(channels::kStation, [this, &bus](const station_t& s) {
     OnStation(s);
     AnswerPendingIfReady(bus, false);
   }));
-  subscriptions_.push_back(bus.Subscribe(typed_channels::kLidarMotion, [this, &bus](const motion_t& m) {
+  subscriptions_.push_back(bus.Subscribe(channels::kLidarMotion, [this, &bus](const motion_t& m) {
     if (m.valid) lidar_motions_[{m.station_i, m.station_j}] = FromRowMajor(m.T_i_j);
     AnswerPendingIfReady(bus, false);
   }));
   subscriptions_.push_back(
-      bus.Subscribe(typed_channels::kExtrinsic, [this, &bus](const extrinsic_t& e) { OnExtrinsic(bus, e); }));
+      bus.Subscribe(channels::kExtrinsic, [this, &bus](const extrinsic_t& e) { OnExtrinsic(bus, e); }));
 }
 
 void FusionOdometryNode::OnStation(const station_t& station) {

@@ -113,9 +113,9 @@ void HandEyeNode::Start(Bus& bus) {
     const std::vector<CalibrationVersion> versions = calibrator_.OnMotion(ToSensorMotion(m), NowUtime());
     PublishAll(bus, versions, Seconds(start));
   };
-  subscriptions_.push_back(bus.Subscribe(typed_channels::kCameraMotion, on_motion));
-  subscriptions_.push_back(bus.Subscribe(typed_channels::kLidarMotion, on_motion));
-  subscriptions_.push_back(bus.Subscribe(typed_channels::kFusedMotions, [this, &bus](const motion_set_t& set) {
+  subscriptions_.push_back(bus.Subscribe(channels::kCameraMotion, on_motion));
+  subscriptions_.push_back(bus.Subscribe(channels::kLidarMotion, on_motion));
+  subscriptions_.push_back(bus.Subscribe(channels::kFusedMotions, [this, &bus](const motion_set_t& set) {
     const auto start = std::chrono::steady_clock::now();
     std::vector<SensorMotion> motions;
     for (const auto& m : set.motions) motions.push_back(ToSensorMotion(m));

@@ -101,9 +101,9 @@ Ros2TfNode::~Ros2TfNode() {
 }
 
 void Ros2TfNode::Start(Bus& bus) {
-  subscriptions_.push_back(bus.Subscribe(typed_channels::kExtrinsic, [this](const extrinsic_t& e) { OnExtrinsic(e); }));
+  subscriptions_.push_back(bus.Subscribe(channels::kExtrinsic, [this](const extrinsic_t& e) { OnExtrinsic(e); }));
   // Stations: the frames the sensors' headers name, and the overlay.
-  subscriptions_.push_back(bus.Subscribe(typed_channels::kStation, [this](const station_t& s) {
+  subscriptions_.push_back(bus.Subscribe(channels::kStation, [this](const station_t& s) {
     if (!s.image.frame_id.empty()) header_parent_ = s.image.frame_id;
     if (!s.cloud.frame_id.empty()) header_child_ = s.cloud.frame_id;
     if (overlay_writer_ <= 0) return;

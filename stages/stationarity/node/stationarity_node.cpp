@@ -32,11 +32,11 @@ StationarityNodeSettings ReadStationarityNodeSettings(ConfigReader r) {
 }
 
 void StationarityNode::Start(Bus& bus) {
-  subscriptions_.push_back(bus.Subscribe(typed_channels::kCameraInfo, [this](const camera_info_t& c) { camera_ = c; }));
+  subscriptions_.push_back(bus.Subscribe(channels::kCameraInfo, [this](const camera_info_t& c) { camera_ = c; }));
   subscriptions_.push_back(
-      bus.SubscribeRaw(channels::kCameraImage, [this](const RawMessage& raw) { Queue(true, raw); }));
+      bus.SubscribeRaw(channels::kCameraImage.name, [this](const RawMessage& raw) { Queue(true, raw); }));
   subscriptions_.push_back(
-      bus.SubscribeRaw(channels::kLidarScan, [this](const RawMessage& raw) { Queue(false, raw); }));
+      bus.SubscribeRaw(channels::kLidarScan.name, [this](const RawMessage& raw) { Queue(false, raw); }));
 }
 
 // Latest wins per stream: a full stream drops its oldest queued frame.
@@ -81,7 +81,7 @@ void StationarityNode::Tick(Bus& bus, int64_t) {
 // The motion is measured on a quick reduced grey decode; the full image is decoded only for a station.
 void StationarityNode::TakeImage(Bus& bus, const std::vector<uint8_t>& bytes) {
   auto msg = std::make_shared<image_t>();
-  DecodeMessage(bytes.data(), bytes.size(), channels::kCameraImage, msg.get());
+  DecodeMessage(bytes.data(), bytes.size(), channels::kCameraImage.name, msg.get());
   if (!msg->frame_id.empty()) image_frame_id_ = msg->frame_id;
   const cv::Mat motion_image = ImageToMatReduced(*msg, detector_.settings().image.working_width_px);
   StationarityDetector::StationImage station_image;
@@ -94,7 +94,7 @@ void StationarityNode::TakeImage(Bus& bus, const std::vector<uint8_t>& bytes) {
 
 void StationarityNode::TakeScan(Bus& bus, const std::vector<uint8_t>& bytes) {
   point_cloud_t msg;
-  DecodeMessage(bytes.data(), bytes.size(), channels::kLidarScan, &msg);
+  DecodeMessage(bytes.data(), bytes.size(), channels::kLidarScan.name, &msg);
   if (!msg.frame_id.empty()) scan_frame_id_ = msg.frame_id;
   for (const auto& s : detector_.AddScan(msg.utime, CloudFromMsg(msg))) Emit(bus, s);
 }

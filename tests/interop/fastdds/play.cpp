@@ -65,10 +65,10 @@ class Player {
   void Send(const LogEvent& event) {
     const int size = static_cast<int>(event.data.size());
     // The camera model goes out beside every image, stamped like it, as camera drivers publish it.
-    if (event.channel == channels::kCameraInfo) {
+    if (event.channel == channels::kCameraInfo.name) {
       camera_info_t msg{};
       if (msg.decode(event.data.data(), 0, size) >= 0) camera_ = CameraFromMsg(msg);
-    } else if (event.channel == channels::kCameraImage) {
+    } else if (event.channel == channels::kCameraImage.name) {
       image_t msg{};
       if (msg.decode(event.data.data(), 0, size) < 0) return;
       if (camera_) {
@@ -76,7 +76,7 @@ class Player {
         Write(info_, &info);
       }
       SendImage(msg);
-    } else if (event.channel == channels::kLidarScan) {
+    } else if (event.channel == channels::kLidarScan.name) {
       point_cloud_t msg{};
       if (msg.decode(event.data.data(), 0, size) >= 0) SendCloud(msg);
     }

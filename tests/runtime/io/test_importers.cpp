@@ -140,7 +140,7 @@ TEST(FolderImporter, PairsByStemAndReportsStrays) {
   LogReader reader(log);
   std::vector<int64_t> station_times;
   while (auto event = reader.Next())
-    if (event->channel == channels::kStation) station_times.push_back(event->utime);
+    if (event->channel == channels::kStation.name) station_times.push_back(event->utime);
   EXPECT_EQ(station_times, (std::vector<int64_t>{10500000, 11000000, 12250000}));
 }
 
@@ -215,7 +215,7 @@ TEST(KittiSnippet, ImportGivesAllFramesAndTheReferenceProjectsOntoEdges) {
   LogReader reader(log);
   int stations = 0;
   while (auto event = reader.Next()) {
-    if (event->channel != channels::kStation) continue;
+    if (event->channel != channels::kStation.name) continue;
     station_t station{};
     ASSERT_GE(station.decode(event->data.data(), 0, static_cast<int>(event->data.size())), 0);
     const cv::Mat image = ImageToMat(station.image);

@@ -33,7 +33,7 @@ std::vector<Scan> ReadScans(const std::string& log) {
   std::vector<Scan> scans;
   LogReader reader(log);
   while (auto event = reader.Next()) {
-    if (event->channel != channels::kLidarScan) continue;
+    if (event->channel != channels::kLidarScan.name) continue;
     point_cloud_t msg;
     EXPECT_GT(msg.decode(event->data.data(), 0, static_cast<int>(event->data.size())), 0);
     scans.push_back({event->utime, CloudFromMsg(msg)});

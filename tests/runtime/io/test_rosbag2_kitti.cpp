@@ -52,15 +52,15 @@ ImportedLog ReadImported(const std::string& path) {
   LogReader reader(path);
   while (auto event = reader.Next()) {
     const int size = static_cast<int>(event->data.size());
-    if (event->channel == channels::kCameraInfo) {
+    if (event->channel == channels::kCameraInfo.name) {
       camera_info_t msg{};
       EXPECT_GE(msg.decode(event->data.data(), 0, size), 0);
       log.cameras.push_back(CameraFromMsg(msg));
-    } else if (event->channel == channels::kCameraImage) {
+    } else if (event->channel == channels::kCameraImage.name) {
       image_t msg{};
       EXPECT_GE(msg.decode(event->data.data(), 0, size), 0);
       log.images.emplace_back(msg.utime, ImageToMat(msg));
-    } else if (event->channel == channels::kLidarScan) {
+    } else if (event->channel == channels::kLidarScan.name) {
       point_cloud_t msg{};
       EXPECT_GE(msg.decode(event->data.data(), 0, size), 0);
       log.scans.emplace_back(msg.utime, CloudFromMsg(msg));

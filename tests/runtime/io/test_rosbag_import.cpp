@@ -104,13 +104,13 @@ LogContents ReadLog(const std::string& path) {
   while (auto event = reader.Next()) {
     contents.utimes.push_back(event->utime);
     const int size = static_cast<int>(event->data.size());
-    if (event->channel == channels::kCameraImage) {
+    if (event->channel == channels::kCameraImage.name) {
       contents.images.emplace_back();
       contents.images.back().decode(event->data.data(), 0, size);
-    } else if (event->channel == channels::kLidarScan) {
+    } else if (event->channel == channels::kLidarScan.name) {
       contents.scans.emplace_back();
       contents.scans.back().decode(event->data.data(), 0, size);
-    } else if (event->channel == channels::kCameraInfo) {
+    } else if (event->channel == channels::kCameraInfo.name) {
       contents.cameras.emplace_back();
       contents.cameras.back().decode(event->data.data(), 0, size);
     }
@@ -328,7 +328,7 @@ void WriteLogAsBag(const std::string& log_path, const std::string& bag_path, con
   LogReader reader(log_path);
   while (auto event = reader.Next()) {
     const int size = static_cast<int>(event->data.size());
-    if (event->channel == channels::kCameraImage) {
+    if (event->channel == channels::kCameraImage.name) {
       image_t image;
       image.decode(event->data.data(), 0, size);
       ASSERT_EQ(image.encoding, "jpeg");
@@ -337,11 +337,11 @@ void WriteLogAsBag(const std::string& log_path, const std::string& bag_path, con
       msg.format = "bgr8; jpeg compressed bgr8";
       msg.data = image.data;
       bag.write("/camera/image_raw/compressed", Stamp(image.utime + 40000), msg);
-    } else if (event->channel == channels::kLidarScan) {
+    } else if (event->channel == channels::kLidarScan.name) {
       point_cloud_t scan;
       scan.decode(event->data.data(), 0, size);
       bag.write("/velodyne_points", Stamp(scan.utime + 20000), VelodyneCloud(CloudFromMsg(scan), scan.utime));
-    } else if (event->channel == channels::kCameraInfo) {
+    } else if (event->channel == channels::kCameraInfo.name) {
       camera_info_t info;
       info.decode(event->data.data(), 0, size);
       std::ofstream(camera_path) << CameraToYaml(CameraFromMsg(info));

@@ -91,15 +91,15 @@ class Player {
 
   void Send(const LogEvent& event) {
     const int size = static_cast<int>(event.data.size());
-    if (event.channel == channels::kCameraInfo) {
+    if (event.channel == channels::kCameraInfo.name) {
       camera_info_t msg{};
       if (msg.decode(event.data.data(), 0, size) >= 0) camera_ = CameraFromMsg(msg);
-    } else if (event.channel == channels::kCameraImage) {
+    } else if (event.channel == channels::kCameraImage.name) {
       image_t msg{};
       if (msg.decode(event.data.data(), 0, size) < 0) return;
       if (camera_) SendCameraInfo(RosHeader{UtimeToRosStamp(msg.utime), "camera"});
       SendImage(msg);
-    } else if (event.channel == channels::kLidarScan) {
+    } else if (event.channel == channels::kLidarScan.name) {
       point_cloud_t msg{};
       if (msg.decode(event.data.data(), 0, size) < 0) return;
       SendCloud(msg);

@@ -32,7 +32,7 @@ Outcome Play(int burst, int queue_depth) {
   auto bus = MakeBus("memq://");
   Outcome out;
   auto sub = bus->Subscribe<station_t>(
-      channels::kStation, std::function<void(const station_t&)>([&](const station_t&) { ++out.stations; }));
+      channels::kStation.name, std::function<void(const station_t&)>([&](const station_t&) { ++out.stations; }));
   node.Start(*bus);
   const Recording& r = TinyRecording();
   bus->Publish(channels::kCameraInfo, CameraToMsg(r.scenario.camera.params, r.frames.front().utime));

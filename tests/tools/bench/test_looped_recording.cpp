@@ -59,8 +59,8 @@ Message Decoded(const LogEvent& event) {
 }
 
 int64_t MessageUtime(const LogEvent& event) {
-  if (event.channel == channels::kCameraImage) return Decoded<image_t>(event).utime;
-  if (event.channel == channels::kLidarScan) return Decoded<point_cloud_t>(event).utime;
+  if (event.channel == channels::kCameraImage.name) return Decoded<image_t>(event).utime;
+  if (event.channel == channels::kLidarScan.name) return Decoded<point_cloud_t>(event).utime;
   return Decoded<camera_info_t>(event).utime;
 }
 
@@ -105,7 +105,7 @@ TEST(LoopedRecording, PlaysForwardThenBackwardWithIncreasingStampsUntilTheStream
   // The backward pass starts where the forward one ended, with the last scan stamped at its last
   // point and its points' times counting back from there; the images come in reverse order.
   const LogEvent& turn = events[per_pass];
-  ASSERT_EQ(turn.channel, channels::kLidarScan);
+  ASSERT_EQ(turn.channel, channels::kLidarScan.name);
   EXPECT_EQ(turn.utime, kStart + 1040000);
   const auto scan = Decoded<point_cloud_t>(turn);
   EXPECT_FLOAT_EQ(scan.x[0], kFrames - 1);
@@ -113,15 +113,17 @@ TEST(LoopedRecording, PlaysForwardThenBackwardWithIncreasingStampsUntilTheStream
   EXPECT_FLOAT_EQ(scan.time_offset_s[3], 0.0F);
   std::vector<int> backward_images, third_pass_images;
   for (size_t i = per_pass; i < 2 * per_pass; ++i)
-    if (events[i].channel == channels::kCameraImage) backward_images.push_back(Decoded<image_t>(events[i]).data[0]);
+    if (events[i].channel == channels::kCameraImage.name)
+      backward_images.push_back(Decoded<image_t>(events[i]).data[0]);
   for (size_t i = 2 * per_pass; i < events.size(); ++i)
-    if (events[i].channel == channels::kCameraImage) third_pass_images.push_back(Decoded<image_t>(events[i]).data[0]);
+    if (events[i].channel == channels::kCameraImage.name)
+      third_pass_images.push_back(Decoded<image_t>(events[i]).data[0]);
   ASSERT_EQ(backward_images.size(), static_cast<size_t>(kFrames));
   EXPECT_EQ(backward_images.front(), kFrames - 1);
   EXPECT_EQ(backward_images.back(), 0);
   EXPECT_EQ(third_pass_images.front(), 0);
-  EXPECT_EQ(events[per_pass - 1].channel, channels::kLidarScan);
-  EXPECT_EQ(events.back().channel, channels::kLidarScan);
+  EXPECT_EQ(events[per_pass - 1].channel, channels::kLidarScan.name);
+  EXPECT_EQ(events.back().channel, channels::kLidarScan.name);
   // Where the stream turns, the frames nearest the turn leave steps a receiver reads as losses: the
   // images 2 x 0.13 s apart at the first turn (2 judged lost), the scans 0.19 s at the second (1).
   EXPECT_EQ(recording.stamp_gaps(), 3);

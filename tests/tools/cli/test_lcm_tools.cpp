@@ -91,9 +91,9 @@ TEST_F(LcmTools, AnLcmLoggerRecordingOfARunReplaysWithCalibrateToTheRunsAnswer) 
   // Every message is an ordinary LCM message on its channel: the stations, the motions and the answer.
   const auto counts = ChannelCounts(recording);
   EXPECT_EQ(counts.count("FUSECAL_RELIABLE"), 0u);
-  EXPECT_EQ(counts.at(channels::kStation), ChannelCounts(log_).at(channels::kStation));
-  EXPECT_GT(counts.at(channels::kLidarMotion), 0);
-  EXPECT_GT(counts.at(channels::kExtrinsic), 0);
+  EXPECT_EQ(counts.at(channels::kStation.name), ChannelCounts(log_).at(channels::kStation.name));
+  EXPECT_GT(counts.at(channels::kLidarMotion.name), 0);
+  EXPECT_GT(counts.at(channels::kExtrinsic.name), 0);
 
   const auto replay = RunCommand(kFusecal + " calibrate --log " + recording + " --out " + replay_out + " 2>&1");
   ASSERT_EQ(replay.exit_code, 0) << replay.output;
@@ -104,7 +104,7 @@ TEST_F(LcmTools, AnLcmLoggerRecordingOfARunReplaysWithCalibrateToTheRunsAnswer) 
 
 TEST_F(LcmTools, LcmLogplayerFeedsARunWithoutALogThatCalibratesIt) {
   const std::string run_out = Temp("live"), run_text = Temp("live.txt");
-  const int stations = ChannelCounts(log_).at(channels::kStation);
+  const int stations = ChannelCounts(log_).at(channels::kStation.name);
   const pid_t run = StartInBackground(kFusecal + " run --bus '" + kPlayerBus + "' --out " + run_out, run_text);
   ASSERT_TRUE(WaitFor(60, [&] { return ReadAll(run_text).find("listening to live sensors") != std::string::npos; }))
       << ReadAll(run_text);

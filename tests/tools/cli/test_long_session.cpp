@@ -75,7 +75,7 @@ TEST(HandEyeNodeLimit, HoldsAtMostMaxMotionsAndListsEveryHeldPair) {
   auto bus = MakeBus("memq://");
   node.Start(*bus);
   std::vector<extrinsic_t> published;
-  auto sub = bus->Subscribe(typed_channels::kExtrinsic, [&](const extrinsic_t& e) { published.push_back(e); });
+  auto sub = bus->Subscribe(channels::kExtrinsic, [&](const extrinsic_t& e) { published.push_back(e); });
   const auto send = [&](const MotionPair& p) {
     bus->Publish(channels::kLidarMotion,
                  MakeMotion(p.station_i, p.station_j, "lidar", p.B, true, Matrix6::Identity(), 1));
@@ -136,8 +136,8 @@ TEST(SessionLog, RawFramesRotateUnderTheCapAndEachSegmentReplaysAlone) {
   SessionLog log(dir, RecordSettings{"all", 8.0});
   const std::vector<uint8_t> frame(700000, 7), info(100, 1), station(1000, 2);
   for (int k = 0; k < 40; ++k) {
-    log.Write(channels::kCameraImage, k, frame.data(), frame.size(), info);
-    log.Write(channels::kStation, k, station.data(), station.size(), info);
+    log.Write(channels::kCameraImage.name, k, frame.data(), frame.size(), info);
+    log.Write(channels::kStation.name, k, station.data(), station.size(), info);
   }
   log.Close();
   uintmax_t raw_bytes = 0;
@@ -147,28 +147,28 @@ TEST(SessionLog, RawFramesRotateUnderTheCapAndEachSegmentReplaysAlone) {
     ++segments;
     const auto channels = Channels(entry.path());
     ASSERT_FALSE(channels.empty());
-    EXPECT_EQ(channels.front(), channels::kCameraInfo) << entry.path();
+    EXPECT_EQ(channels.front(), channels::kCameraInfo.name) << entry.path();
   }
   EXPECT_LE(raw_bytes, 8000000u);
   EXPECT_GE(segments, 6);
   EXPECT_GT(log.segments_deleted(), 10);
   const auto session = Channels(dir + "/session.lcmlog");
   EXPECT_EQ(session.size(), 40u);
-  EXPECT_EQ(std::count(session.begin(), session.end(), channels::kCameraImage), 0);
+  EXPECT_EQ(std::count(session.begin(), session.end(), channels::kCameraImage.name), 0);
 }
 
 TEST(SessionLog, StationsPolicyKeepsNoRawFrameAndNoneWritesNothing) {
   const std::string dir = TempDir("stations");
   SessionLog log(dir, RecordSettings{});
   const std::vector<uint8_t> frame(1000, 7), info;
-  log.Write(channels::kLidarScan, 1, frame.data(), frame.size(), info);
-  log.Write(channels::kStation, 2, frame.data(), frame.size(), info);
+  log.Write(channels::kLidarScan.name, 1, frame.data(), frame.size(), info);
+  log.Write(channels::kStation.name, 2, frame.data(), frame.size(), info);
   log.Close();
-  EXPECT_EQ(Channels(dir + "/session.lcmlog"), std::vector<std::string>{channels::kStation});
+  EXPECT_EQ(Channels(dir + "/session.lcmlog"), std::vector<std::string>{channels::kStation.name});
   EXPECT_FALSE(std::filesystem::exists(dir + "/raw"));
   const std::string none = TempDir("none");
   SessionLog nothing(none, RecordSettings{"none", 1.0});
-  nothing.Write(channels::kStation, 2, frame.data(), frame.size(), info);
+  nothing.Write(channels::kStation.name, 2, frame.data(), frame.size(), info);
   nothing.Close();
   EXPECT_TRUE(std::filesystem::is_empty(none));
 }

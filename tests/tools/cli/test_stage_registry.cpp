@@ -67,7 +67,7 @@ TEST(StageRegistry, InProcessNodesSubscribeToTheChannelsTheRegistryLists) {
     node->Start(bus);
     EXPECT_EQ(bus.subscribed, AsSet(stage.channels_in)) << stage.name;
     for (const std::string& channel : bus.published)  // a node may publish at start (none need to)
-      EXPECT_TRUE(AsSet(stage.channels_out).count(channel) || channel == typed_channels::kStatus.name) << channel;
+      EXPECT_TRUE(AsSet(stage.channels_out).count(channel) || channel == channels::kStatus.name) << channel;
   }
   EXPECT_EQ(in_process, 5);  // stationarity, lidar_icp, camera_frontend, fusion_odometry, handeye
 }

@@ -52,7 +52,7 @@ std::map<int, Station> ReadStations(const std::string& log, std::unique_ptr<Came
   std::map<int, Station> stations;
   LogReader reader(log);
   while (auto event = reader.Next()) {
-    if (event->channel != channels::kStation) continue;
+    if (event->channel != channels::kStation.name) continue;
     station_t s{};
     s.decode(event->data.data(), 0, static_cast<int>(event->data.size()));
     stations[s.id] = {ImageToMat(s.image), CloudFromMsg(s.cloud)};

@@ -82,23 +82,23 @@ Session ReadSession(const std::string& path) {
   LogReader reader(path);
   std::optional<extrinsic_t> last;
   while (auto e = reader.Next()) {
-    if (e->channel == channels::kStation) {
+    if (e->channel == channels::kStation.name) {
       const auto m = Decode<station_t>(*e);
       Station& st = s.stations[m.id];
       st.utime = m.utime;
       st.cloud = CloudFromMsg(m.cloud);
       st.image = ImageToMat(m.image);
       st.camera = MakeCameraModel(CameraFromMsg(m.camera));
-    } else if (e->channel == channels::kLidarMotion) {
+    } else if (e->channel == channels::kLidarMotion.name) {
       const auto m = Decode<motion_t>(*e);
       if (m.valid) s.lidar_motions[{m.station_i, m.station_j}] = FromRowMajor(m.T_i_j);
-    } else if (e->channel == channels::kGroundTruth) {
+    } else if (e->channel == channels::kGroundTruth.name) {
       const auto truth = Decode<ground_truth_t>(*e);
       if (s.truth && !std::equal(truth.T_camera_lidar, truth.T_camera_lidar + 16, s.truth->T_camera_lidar))
         throw LogError(path + ": the camera moves on its mount in this log; the budget needs one extrinsic");
       s.truth = truth;
       s.X_true = CheckedTruthExtrinsic(truth).T_camera_lidar;
-    } else if (e->channel == channels::kExtrinsic) {
+    } else if (e->channel == channels::kExtrinsic.name) {
       last = Decode<extrinsic_t>(*e);
     }
   }

@@ -162,13 +162,13 @@ int PrintStations(const std::string& log, const std::string& config, bool trace)
   int bad = 0;
   while (auto event = reader.Next()) {
     try {
-      if (event->channel == channels::kCameraImage) {
+      if (event->channel == channels::kCameraImage.name) {
         image_t msg{};
         if (msg.decode(event->data.data(), 0, static_cast<int>(event->data.size())) < 0)
           throw std::runtime_error("corrupt image_t");
         for (const auto& s : detector.AddImage(msg.utime, ImageToMat(msg))) print(s);
         if (trace) PrintTrace("image", msg.utime, detector.State());
-      } else if (event->channel == channels::kLidarScan) {
+      } else if (event->channel == channels::kLidarScan.name) {
         point_cloud_t msg{};
         if (msg.decode(event->data.data(), 0, static_cast<int>(event->data.size())) < 0)
           throw std::runtime_error("corrupt point_cloud_t");
