@@ -2,8 +2,8 @@
 """The docs against the stage registry (stages/stages.def): a stage the docs name must be in it, and what
 they say of the stages must be what it says.
 
-- docs/architecture.md lists the stages in start order in the line that starts "The stages, in start
-  order": exactly the registry's names, in its order.
+- Wherever README.md or docs/*.md say "the stages, in start order:" (docs/architecture.md must), the
+  list that follows is exactly the registry's names, in its order.
 - Every executable `fusecal-<name>` in README.md and docs/*.md is a registry stage's (fusecal-<stage with
   dashes>) or one of the project's other executables (OTHER_EXECUTABLES), or a name the docs give to
   something else (NOT_EXECUTABLES).
@@ -36,22 +36,30 @@ def registry(source_dir):
     return stages
 
 
+def doc_paths(source_dir):
+    return [os.path.join(source_dir, "README.md")] + sorted(glob.glob(os.path.join(source_dir, "docs", "*.md")))
+
+
 def stage_list_problems(source_dir, names):
-    path = os.path.join(source_dir, "docs/architecture.md")
-    text = open(path).read()
-    match = re.search(r"The stages, in start order[^:]*:(.*?)\.(\s|$)", text, re.S)
-    if not match:
-        return [f"{path}: no line starting 'The stages, in start order' listing the stages"]
-    listed = re.findall(r"`([a-z0-9_]+)`", match.group(1))
-    if listed != names:
-        return [f"{path}: lists the stages {listed}; the registry (stages/stages.def) has {names}"]
-    return []
+    problems = []
+    architecture = os.path.join(source_dir, "docs/architecture.md")
+    for path in doc_paths(source_dir):
+        if not os.path.exists(path):
+            continue
+        lists = re.findall(r"the stages, in start order[^:]*:(.*?)\.(?:\s|$)", open(path).read(), re.S | re.I)
+        if path == architecture and not lists:
+            problems.append(f"{path}: no 'The stages, in start order:' listing the stages")
+        for text in lists:
+            listed = re.findall(r"`([a-z0-9_]+)`", text)
+            if listed != names:
+                problems.append(f"{path}: lists the stages {listed}; the registry (stages/stages.def) has {names}")
+    return problems
 
 
 def executable_problems(source_dir, names):
     known = {"fusecal-" + n.replace("_", "-") for n in names} | OTHER_EXECUTABLES | NOT_EXECUTABLES
     problems = []
-    for path in [os.path.join(source_dir, "README.md")] + sorted(glob.glob(os.path.join(source_dir, "docs", "*.md"))):
+    for path in doc_paths(source_dir):
         if not os.path.exists(path):
             continue
         for number, line in enumerate(open(path), 1):
