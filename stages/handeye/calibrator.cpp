@@ -170,7 +170,13 @@ std::vector<CalibrationVersion> Calibrator::StartRound(int64_t now_utime) {
   previous_estimate_.reset();
   converged_ = false;
   const bool usable = CanRefine(*initial_);
-  if (!usable) {
+  // A scaleless solve that cannot be refined does not undo a scaled estimate: the scaleless motions give
+  // directions only, and their robust fit can fall on a consensus of one rotation axis (a long session that
+  // repeats the same motions held 20 copies each of two; the scaleless fit set one group aside and read
+  // the rest as rotation-degenerate). The round resumes from the scaled estimate, whose fused motions
+  // decide.
+  const bool resume_scaled = current_ && current_->scaled && current_->usable() && settings_.scaled_refinement;
+  if (!usable && !resume_scaled) {
     // Not enough to refine: report what the motions give and wait for more.
     const VersionStatus status = initial_->usable() ? VersionStatus::kDegenerate : VersionStatus::kFailed;
     if (!current_ || !current_->scaled) current_ = *initial_;
@@ -275,9 +281,14 @@ CalibrationVersion Calibrator::MakeVersion(const HandEyeResult& result, VersionS
     v.result.message = v.result.message.empty() ? note_ : note_ + "; " + v.result.message;
     note_.clear();
   }
-  // A request lists the pairs fusion odometry is to compute: all that the newest scaleless solve used.
-  const HandEyeResult& used_by = v.asks() && initial_ ? *initial_ : result;
-  for (const auto& p : used_by.used_pairs) v.used.push_back({p.station_i, p.station_j});
+  // A request lists the pairs fusion odometry is to compute: all that the newest scaleless solve used, or
+  // every held pair when that solve could not be refined (the round resumes from the scaled estimate).
+  if (v.asks() && initial_ && !CanRefine(*initial_)) {
+    for (const auto& p : ScalelessPairs()) v.used.push_back({p.station_i, p.station_j});
+  } else {
+    const HandEyeResult& used_by = v.asks() && initial_ ? *initial_ : result;
+    for (const auto& p : used_by.used_pairs) v.used.push_back({p.station_i, p.station_j});
+  }
   for (const auto& p : result.rejected_pairs) v.not_used.push_back({p.station_i, p.station_j});
   // Pairs that this solve did not take (too few motions, not asked for, rejected before) are listed as not
   // used: stations of the held pairs are kept by fusion odometry and the coordinator by this list.
