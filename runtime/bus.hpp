@@ -97,35 +97,18 @@ class Bus {
 
   // `handler` is any callable taking (const M&) or (const M&, const RawMessage&); it receives the decoded
   // message. A message that fails to decode (wrong type on the channel, truncated) raises BusError from
-  // Handle() naming the channel.
+  // Handle() naming the channel, or, for a watcher that must outlive a bad message, goes to `on_error`
+  // (with what Handle() would have raised) when one is given.
   template <typename M, typename Handler>
-  Subscription Subscribe(const std::string& channel, Handler handler) {
-    return SubscribeRaw(channel, [handler = std::move(handler)](const RawMessage& raw) mutable {
-      M message;
-      DecodeMessage(raw.data, raw.size, raw.channel, &message);
-      if constexpr (std::is_invocable_v<Handler&, const M&, const RawMessage&>)
-        handler(message, raw);
-      else
-        handler(message);
-    });
-  }
-
-  // The same on a pipeline channel: `bus.Subscribe(channels::kStation, [](const station_t& s) {...})`.
-  template <typename M, typename Handler>
-  Subscription Subscribe(const Channel<M>& channel, Handler handler) {
-    return Subscribe<M>(std::string(channel.name), std::move(handler));
-  }
-
-  // The same for a watcher that must outlive a bad message: one that does not decode goes to `on_error`
-  // (with what Handle() would have raised) instead of raising from Handle().
-  template <typename M, typename Handler>
-  Subscription Subscribe(const Channel<M>& channel, Handler handler, std::function<void(const std::string&)> on_error) {
-    return SubscribeRaw(channel.name,
+  Subscription Subscribe(const std::string& channel, Handler handler,
+                         std::function<void(const std::string&)> on_error = nullptr) {
+    return SubscribeRaw(channel,
                         [handler = std::move(handler), on_error = std::move(on_error)](const RawMessage& raw) mutable {
                           M message;
                           try {
                             DecodeMessage(raw.data, raw.size, raw.channel, &message);
                           } catch (const BusError& e) {
+                            if (!on_error) throw;
                             on_error(e.what());
                             return;
                           }
@@ -134,6 +117,13 @@ class Bus {
                           else
                             handler(message);
                         });
+  }
+
+  // The same on a pipeline channel: `bus.Subscribe(channels::kStation, [](const station_t& s) {...})`.
+  template <typename M, typename Handler>
+  Subscription Subscribe(const Channel<M>& channel, Handler handler,
+                         std::function<void(const std::string&)> on_error = nullptr) {
+    return Subscribe<M>(std::string(channel.name), std::move(handler), std::move(on_error));
   }
 };
 

@@ -37,11 +37,11 @@ struct PipelineWatch {
   std::map<std::string, int> pids;                    // stage name -> pid of its latest STATUS
   bool player_done = false;                           // a player (another host's run) has said "done"
   std::string player_host;
-  long undecodable = 0;  // messages here that did not decode (the log has them)
   std::vector<Subscription> subs;
 
   explicit PipelineWatch(Bus& bus) {
-    const auto on_error = [this](const std::string&) { ++undecodable; };  // the session log says which
+    // A message that does not decode is skipped here; the session record keeps it as it came.
+    const auto on_error = [](const std::string&) {};
     const auto on_motion = [this](const motion_t& m) {
       motions_for.insert({m.sensor, m.station_j});
       if (!m.valid) failed_for.insert(m.station_j);
