@@ -53,13 +53,16 @@ LoopedRecording::LoopedRecording(const std::string& log, double min_seconds)
   if (events_.empty()) throw std::runtime_error(log + " has no CAMERA_INFO, CAMERA_IMAGE or LIDAR_SCAN event");
   first_utime_ = events_.front().utime;
   last_utime_ = first_utime_;
-  std::vector<int64_t> backward_utime(events_.size());
-  for (const LogEvent& event : events_) last_utime_ = std::max(last_utime_, EndUtime(event));
-  for (size_t i = 0; i < events_.size(); ++i) backward_utime[i] = last_utime_ - EndUtime(events_[i]);
+  end_utimes_.reserve(events_.size());
+  for (const LogEvent& event : events_) {
+    end_utimes_.push_back(EndUtime(event));
+    last_utime_ = std::max(last_utime_, end_utimes_.back());
+  }
+  // Backward, an event's stamp is last_utime_ minus its end: the later it ends, the sooner it comes.
   backward_order_.resize(events_.size());
   std::iota(backward_order_.begin(), backward_order_.end(), size_t{0});
   std::stable_sort(backward_order_.begin(), backward_order_.end(),
-                   [&](size_t a, size_t b) { return backward_utime[a] < backward_utime[b]; });
+                   [&](size_t a, size_t b) { return end_utimes_[a] > end_utimes_[b]; });
   // Each pass starts where the last one ended: at a turn the frames keep their spacing (a gap would read
   // as lost frames).
   const double pass_s = std::max(1e-6, pass_seconds());
@@ -97,7 +100,7 @@ std::optional<LogEvent> LoopedRecording::NextEvent() {
 // is stamped at its last point and its points' times count back from there.
 LogEvent LoopedRecording::Restamped(size_t index, bool backward, int64_t base) const {
   LogEvent event = events_[index];
-  const int64_t utime = backward ? base + (last_utime_ - EndUtime(event)) : base + (event.utime - first_utime_);
+  const int64_t utime = backward ? base + (last_utime_ - end_utimes_[index]) : base + (event.utime - first_utime_);
   event.utime = utime;
   if (event.channel == channels::kLidarScan.name) {
     point_cloud_t scan;

@@ -40,6 +40,7 @@ class LoopedRecording {
 
   std::unique_ptr<LogReader> reader_;   // the single streamed pass
   std::vector<LogEvent> events_;        // the recording, in memory for more than one pass
+  std::vector<int64_t> end_utimes_;     // when each event ends (a scan at its last point)
   std::vector<size_t> backward_order_;  // event indices by their backward stamps
   int64_t first_utime_ = 0, last_utime_ = 0;
   int passes_ = 1, pass_ = 0;
