@@ -51,9 +51,9 @@ def play_summary(play_json):
         return {}
 
 
-def published(play_json):
-    """Images and clouds the peer published, and when its last sample left (unix seconds)."""
-    line = play_summary(play_json)
+def published(line):
+    """Images and clouds the peer published, and when its last sample left (unix seconds), from its closing
+    line (play_summary)."""
     counts = line.get("published")
     if counts is None:
         return None, None, None
@@ -166,7 +166,8 @@ def main():
     rows, factors = [], {"replay (log, live)": replay}
     for run in runs:
         c = ros2_input_counters(os.path.join(work, run, "session.lcmlog"))
-        images, clouds, end_unix_s = published(os.path.join(work, run + ".play.json"))
+        play = play_summary(os.path.join(work, run + ".play.json"))
+        images, clouds, end_unix_s = published(play)
         last = last_answer_utime(os.path.join(work, run, "session.lcmlog"))
         row = {
             "run": run,
@@ -178,7 +179,7 @@ def main():
             "cloud_latency_max_ms": 1000 * c.get("cloud_latency_max_s", float("nan")),
             # what the stage judged lost from stamp gaps, less the gaps the player's turns leave (--minutes)
             "judged_lost": int(c.get("image_lost", 0) + c.get("cloud_lost", 0))
-                           - int(play_summary(os.path.join(work, run + ".play.json")).get("stamp_gaps", 0)),
+                           - int(play.get("stamp_gaps", 0)),
             "malformed": int(c.get("image_malformed", 0) + c.get("cloud_malformed", 0)),
             "last_answer_after_stream_s": (last * 1e-6 - end_unix_s) if last and end_unix_s else float("nan"),
             "result": result_line(os.path.join(work, run + ".txt")),
