@@ -134,11 +134,11 @@ PairTest TestPair(const MotionPair& measured, const HandEyeResult& estimate, con
   const double trans_floor_m = floor * solver.nominal_translation_sigma_m;
   noise.rot_sigma_rad = std::max(estimate.noise_rot_deg, rot_floor_deg) * M_PI / 180.0;
   noise.trans_sigma_m = std::max(estimate.noise_trans_m, trans_floor_m);
-  // That noise is itself estimated, from 3 residuals per pair less the 6 unknowns (conservative: rotation
-  // and translation are each estimated from 3 n - 3); where the floor holds both, it is a known value
-  // (chi^2).
+  // That noise is itself estimated: rotation and translation each from the 3 n residuals of its part of the
+  // solve less its 3 unknowns; where the floor holds both, it is a known value (chi^2).
   const bool floored = estimate.noise_rot_deg <= rot_floor_deg && estimate.noise_trans_m <= trans_floor_m;
-  test.noise_dof = floored ? kKnownNoiseDof : std::max(1, 3 * static_cast<int>(estimate.used_pairs.size()) - 6);
+  const int nu = std::max(1, 3 * static_cast<int>(estimate.used_pairs.size()) - 3);
+  test.noise_dof = floored ? kKnownNoiseDof : std::min(kKnownNoiseDof, nu);
   MotionPair pair = measured;
   const double min_length = settings.test_direction ? settings.min_direction_length * noise.trans_sigma_m
                                                     : std::numeric_limits<double>::infinity();
@@ -277,11 +277,16 @@ std::optional<int> ChangeDetector::Add(const PairTest& test) {
     return t.station_i == test.station_i && t.station_j == test.station_j;
   });
   if (same != recent_.end()) {
+    if (same->metric_arrived() && !test.metric) return std::nullopt;  // superseded already
+    // The metric camera motion of a pair replaces its scaleless one, which the front end's 5-point solver gave
+    // alone: a scaleless motion off by the solver's error (a narrow field of view) is not evidence once
+    // fusion odometry refined the same motion.
     auto& tests = same->tests;
-    tests.erase(std::remove_if(tests.begin(), tests.end(), [&](const PairTest& t) { return t.metric == test.metric; }),
+    tests.erase(std::remove_if(tests.begin(), tests.end(),
+                               [&](const PairTest& t) { return test.metric || t.metric == test.metric; }),
                 tests.end());
     same->tests.push_back(test);
-    same->off = same->off || test.off;
+    same->off = std::any_of(tests.begin(), tests.end(), [](const PairTest& t) { return t.off; });
   } else {
     recent_.push_back({test.station_i, test.station_j, test.off, {test}});
     while (static_cast<int>(recent_.size()) > settings_.window) recent_.pop_front();

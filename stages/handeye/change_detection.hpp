@@ -6,21 +6,22 @@
 //   C = J_A S_A J_A^T + J_B S_B J_B^T + J_X S_X J_X^T
 // (the pair's own noise at the noise the estimate's residuals show, never below a floor, and the estimate's
 // covariance S_X), so
-//   d^2 = r^T C^-1 r,   d^2 / k  ~  F(k, nu),   k = 6 for a metric camera motion, nu = 3 n - 6 the
-// residuals the noise of a solve of n pairs was estimated from (chi^2(k) for many pairs; a solve of few
-// pairs fits its residuals too well, and the F quantile allows for that; chi^2(k) also where the floor
-// holds, a noise not estimated but stated). A scaleless camera motion is tested on its rotation (k = 3);
-// with test_direction also on the direction of its translation, at the scale that fits it best: the two
-// components of r_t normal to that direction (k = 5; k = 3 for a turn on the spot). That direction comes
-// from the images alone, so a translation of the camera on its mount shows there even where fusion
-// odometry, which places the LiDAR's points with the estimate, hides it; but it is as noisy as the
-// 5-point solver makes it, which the metric noise does not tell.
+//   d^2 = r^T C^-1 r,   d^2 / k  ~  F(k, nu),   k = 6 for a metric camera motion, nu = 3 n - 3 the
+// residuals each part of the noise (rotation, translation) of a solve of n pairs was estimated from, less
+// its 3 unknowns (chi^2(k) for many pairs; a solve of few pairs fits its residuals too well, and the F
+// quantile allows for that; chi^2(k) also where the floor holds, a noise not estimated but stated). A scaleless camera
+// motion is tested on its rotation (k = 3); with test_direction also on the direction of its translation, at the scale
+// that fits it best: the two components of r_t normal to that direction (k = 5; k = 3 for a turn on the spot). That
+// direction comes from the images alone; but it is as noisy as the 5-point solver makes it, which the metric noise does
+// not tell.
 // The pair is "off" when d^2 exceeds the quantile 1 - alpha (alpha = off_probability).
 //
-// Each pair is tested twice: on arrival with its scaleless camera motion (also a pair the solve will
-// reject as an outlier is tested), and with the metric camera motion fusion odometry gives for it. It is off when
-// either test is. While the newest pairs hold an off pair, they are tested against the estimate from before it (the
-// reference), so that pairs after a change do not pull the estimate they are tested against.
+// Each pair is tested on arrival with its scaleless camera motion (also a pair the solve will reject as an
+// outlier is tested), and again with the metric camera motion fusion odometry gives for it, whose test then
+// replaces the first: fusion odometry refines the same camera motion, and the 5-point solver's own errors
+// (a narrow field of view gives rotations off by 0.1-0.3 deg where the metric ones fit) are no evidence of
+// a change once it has. While the newest pairs hold an off pair, they are tested against the estimate from before it
+// (the reference), so that pairs after a change do not pull the estimate they are tested against.
 //
 // Rule (a change, not an outlier). A change makes the pair across it off (the pair that spans the change
 // mixes both extrinsics, A = X B X'^-1, and shows the whole change whatever its turn), and the pairs after
@@ -39,14 +40,17 @@
 // N(0, 1) when the pairs after it fit X, so an outlier confirms with probability beta here too. A single bad pair is
 // off alone: the pairs after it fit the estimate and it stays an outlier for the solver's rejection. With Gaussian
 // noise a pair is off with probability below 2 alpha and a false alarm needs the next pairs to confirm by either test,
-// with the scaleless or the metric motions, at beta: below 8 alpha beta (window - 1) = 8e-6 per pair at the defaults,
-// about one session in 400 of 300 stations. Where the pair across the change was not off alone (a change near the
-// noise), a later one was: the change is then placed across the pair of the newest that splits them best
+// with the scaleless or the metric motions, at beta: below 8 alpha beta (window - 1) = 1.2e-5 per pair at the
+// defaults, about one session in 280 of 300 stations. Where the pair across the change was not off alone (a change near
+// the noise), a later one was: the change is then placed across the pair of the newest that splits them best
 // (ChangeDetector::Locate). A pair tells a change only across its turn: the rotation residual of a pair turning by
-// theta shows about 2 sin(theta / 2) of a rotation change, so changes far below the noise stay undetected and go into
-// the estimate's residuals and std instead.
+// theta shows about 2 sin(theta / 2) of a rotation change, and of a translation change dt only (R_a - I) dt, its part
+// normal to the turn axis at that factor (0.17-0.28 for tilts of 10-16 deg), so a translation takes more pairs to
+// confirm than a rotation, and changes far below the noise stay undetected and go into the estimate's residuals and
+// std instead.
 #pragma once
 
+#include <algorithm>
 #include <deque>
 #include <optional>
 #include <string>
@@ -61,9 +65,9 @@ struct ChangeDetectionSettings {
   bool enabled = true;
   double off_probability = 5e-4;      // alpha: chance that one test of a pair of an unchanged rig is off
   double confirm_probability = 1e-3;  // beta: chance that pairs of an unchanged rig confirm an off pair
-  int window = 3;                     // newest tested pairs the rule looks at
+  int window = 4;                     // newest tested pairs the rule looks at
   // The pair's noise is the noise the estimate's residuals show, at least this fraction of the nominal.
-  double noise_floor_fraction = 0.1;
+  double noise_floor_fraction = 0.05;
   // Whether a scaleless camera motion's direction is tested too (when its translation is at least
   // min_direction_length times the translation noise; a turn on the spot has no direction). Off by default:
   // a camera with a narrow field of view gets directions from the 5-point solver far noisier than its
@@ -130,18 +134,20 @@ struct TestedPair {
   std::vector<PairTest> tests;
   // The test of that kind, else the other.
   const PairTest& Evidence(bool metric) const;
+  bool metric_arrived() const {
+    return std::any_of(tests.begin(), tests.end(), [](const PairTest& t) { return t.metric; });
+  }
 };
 
 // The rule above over the pairs tested since the last change, in their order of arrival.
 class ChangeDetector {
  public:
   explicit ChangeDetector(ChangeDetectionSettings settings = {}) : settings_(settings) {}
-  // Adds the newest test, or the second test of a pair already there (off when either is); the station
-  // after which the extrinsic changed when the rule decides. A pair off by the test of its scaleless motion
-  // is confirmed by the tests of the scaleless motions after it, one off by its metric test by theirs (a
-  // pair without a test of that kind yet takes part with the one it has): fusion odometry
-  // places the LiDAR's points with the estimate, which moves a metric motion toward it, while the images' direction
-  // does not see a change along the camera's own path.
+  // Adds the newest test, or the metric test of a pair already there (which replaces its scaleless one; a
+  // scaleless test after it is ignored); the station after which the extrinsic changed when the rule
+  // decides. A pair off by the test of its scaleless motion is confirmed by the tests of the scaleless
+  // motions after it, one off by its metric test by theirs (a pair without a test of that kind yet takes
+  // part with the one it has).
   std::optional<int> Add(const PairTest& test);
   void Reset() { recent_.clear(); }
   // Whether the newest pairs hold an off pair (a change may be under way).

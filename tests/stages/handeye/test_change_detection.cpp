@@ -79,19 +79,45 @@ TEST(ChangeDetector, AnOffPairIsAChangeOnlyWhenThePairsAfterItConfirmIt) {
   EXPECT_FALSE(detector.Add(MakeTest(0, 1.5, false, quiet)));
   EXPECT_FALSE(detector.Add(MakeTest(1, 100, true, moved)));  // an outlier ...
   EXPECT_FALSE(detector.Add(MakeTest(2, 1.5, false, quiet)));
-  EXPECT_FALSE(detector.Add(MakeTest(3, 1.5, false, quiet)));       // ... that the pairs after it do not confirm
-  EXPECT_FALSE(detector.Add(MakeTest(4, 100, true, moved)));        // the pair across a change ...
-  const auto change = detector.Add(MakeTest(5, 54, false, moved));  // ... and one after it, not off alone
+  EXPECT_FALSE(detector.Add(MakeTest(3, 1.5, false, quiet)));
+  EXPECT_FALSE(detector.Add(MakeTest(4, 1.5, false, quiet)));       // ... that the pairs after it do not confirm
+  EXPECT_FALSE(detector.Add(MakeTest(5, 100, true, moved)));        // the pair across a change ...
+  const auto change = detector.Add(MakeTest(6, 54, false, moved));  // ... and one after it, not off alone
   ASSERT_TRUE(change);
-  EXPECT_EQ(*change, 4) << "the change lies in the off pair";
+  EXPECT_EQ(*change, 5) << "the change lies in the off pair";
   EXPECT_TRUE(detector.recent().empty());
-  // A second test of the same kind replaces the first, and the pair stays off.
+  // The pair's metric test replaces its scaleless one, and a scaleless test after it is ignored.
   EXPECT_FALSE(detector.Add(MakeTest(6, 100, true, moved)));
+  EXPECT_TRUE(detector.Suspicious());
   PairTest metric = MakeTest(6, 1, false, quiet);
+  metric.metric = true;
   EXPECT_FALSE(detector.Add(metric));
   ASSERT_EQ(detector.recent().size(), 1u);
-  EXPECT_TRUE(detector.recent()[0].off);
-  EXPECT_TRUE(detector.Suspicious());
+  EXPECT_FALSE(detector.recent()[0].off);
+  EXPECT_FALSE(detector.Add(MakeTest(6, 100, true, moved)));
+  ASSERT_EQ(detector.recent()[0].tests.size(), 1u);
+  EXPECT_TRUE(detector.recent()[0].tests[0].metric);
+  EXPECT_FALSE(detector.Suspicious());
+}
+
+TEST(ChangeDetector, ScalelessMotionsOffByTheFrontEndAloneDoNotConfirmEachOther) {
+  // Two pairs whose 5-point rotations miss the same way while fusion odometry's metric motions of the same
+  // pairs fit: without the metric tests, the second confirms the first.
+  const Vector6 quiet = Vector6::Constant(0.5), missed = Vector6::Constant(3.0);
+  const auto play = [&](bool with_metric) {
+    ChangeDetector detector;
+    std::optional<int> change;
+    for (int k = 0; k < 3; ++k) {
+      const bool outlier = k == 0 || k == 2;
+      change = change ? change : detector.Add(MakeTest(k, outlier ? 54 : 1.5, outlier, outlier ? missed : quiet));
+      PairTest metric = MakeTest(k, 1.5, false, quiet);
+      metric.metric = true;
+      if (with_metric && k < 2) change = change ? change : detector.Add(metric);
+    }
+    return change;
+  };
+  EXPECT_TRUE(play(false)) << "the scaleless tests alone read as a change";
+  EXPECT_FALSE(play(true));
 }
 
 TEST(ChangeDetector, PairsAfterTheChangeConfirmTheChangeThatTheOffPairShows) {
@@ -117,6 +143,21 @@ TEST(ChangeDetector, PairsAfterTheChangeConfirmTheChangeThatTheOffPairShows) {
   ASSERT_TRUE(change);
   EXPECT_EQ(*change, 0);
   EXPECT_FALSE(play(-1.0)) << "pairs that move the other way do not confirm it";
+}
+
+TEST(TestPair, TheNoiseOfAnEstimateFromFewPairsHasItsDegreesOfFreedom) {
+  const Session session(4, -1, Isometry3::Identity(), 3);
+  HandEyeResult estimate;
+  estimate.T_camera_lidar = session.X;
+  estimate.used_pairs.resize(3);
+  estimate.noise_rot_deg = 0.012;  // above the floor (0.05 of the nominal 0.1 deg)
+  estimate.noise_trans_m = 0.0002;
+  const ChangeDetectionSettings settings;
+  // Rotation from its 9 residuals less 3 unknowns: F(6, 6), not F(6, 3), whose quantile at 5e-4 is 8 times larger.
+  EXPECT_EQ(TestPair(session.metric[3], estimate, HandEyeSettings{}, settings).noise_dof, 6);
+  EXPECT_GT(TestThreshold(6, 3, 5e-4), 8 * TestThreshold(6, 6, 5e-4));
+  estimate.noise_rot_deg = 0.004;  // both below the floor: a known noise
+  EXPECT_EQ(TestPair(session.metric[3], estimate, HandEyeSettings{}, settings).noise_dof, kKnownNoiseDof);
 }
 
 TEST(Calibrator, DetectsAMovedCameraWithinThreePairsAndConvergesToTheNewExtrinsic) {
