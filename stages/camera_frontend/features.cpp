@@ -57,6 +57,7 @@ std::string CheckImage(const cv::Mat& image, const CameraModel& camera) {
   if (image.cols != camera.width() || image.rows != camera.height())
     return "image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
            " but the camera model expects " + std::to_string(camera.width()) + "x" + std::to_string(camera.height());
+  if (std::string e = TrackableSizeProblem(image.cols, image.rows); !e.empty()) return "image is " + e;
   return {};
 }
 

@@ -176,4 +176,10 @@ std::unique_ptr<CameraModel> MakeCameraModel(const CameraParams& params) {
   return std::make_unique<EquirectangularCamera>(params);
 }
 
+std::string TrackableSizeProblem(int width, int height) {
+  if (width >= kMinTrackedImageSide && height >= kMinTrackedImageSide) return {};
+  return std::to_string(width) + "x" + std::to_string(height) + ", too small to track (at least " +
+         std::to_string(kMinTrackedImageSide) + "x" + std::to_string(kMinTrackedImageSide) + " pixels)";
+}
+
 }  // namespace fusecal

@@ -98,4 +98,11 @@ class EquirectangularCamera : public CameraModel {
 // Builds the model named by params.model; throws std::invalid_argument naming the bad field.
 std::unique_ptr<CameraModel> MakeCameraModel(const CameraParams& params);
 
+// The smallest image side the front ends track features in: AKAZE's descriptor and the KLT window each
+// span about this many pixels around a feature.
+inline constexpr int kMinTrackedImageSide = 32;
+
+// Empty when images of this size can be tracked, else why not ("WxH, too small to track ...").
+std::string TrackableSizeProblem(int width, int height);
+
 }  // namespace fusecal

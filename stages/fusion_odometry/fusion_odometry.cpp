@@ -30,6 +30,8 @@ std::string CheckImage(const cv::Mat& image, const CameraModel& camera, const ch
   if (image.cols != camera.width() || image.rows != camera.height())
     return std::string("image ") + name + " is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
            ", the camera " + std::to_string(camera.width()) + "x" + std::to_string(camera.height());
+  if (std::string e = TrackableSizeProblem(image.cols, image.rows); !e.empty())
+    return std::string("image ") + name + " is " + e;
   return {};
 }
 

@@ -58,6 +58,19 @@ TEST(CameraFrontendBadInput, WrongSizeForTheCamera) {
       << r.failure_reason;
 }
 
+TEST(CameraFrontendBadInput, AnImageTooSmallToTrackIsRefusedWithItsSize) {
+  CameraParams params;
+  params.model = "pinhole";
+  params.width = params.height = 1;
+  params.fx = params.fy = 1;
+  const auto camera = MakeCameraModel(params);
+  const cv::Mat pixel(1, 1, CV_8U, cv::Scalar(128));
+  const RelativePoseResult r = EstimateRelativePose(pixel, pixel, *camera);
+  EXPECT_FALSE(r.valid);
+  EXPECT_EQ(r.failure_reason.text, "image i: image is 1x1, too small to track (at least 32x32 pixels)")
+      << r.failure_reason;
+}
+
 TEST(CameraFrontendBadInput, UnsupportedType) {
   cv::Mat floating;
   Data().textured.convertTo(floating, CV_32F);
