@@ -40,14 +40,15 @@
 // N(0, 1) when the pairs after it fit X, so an outlier confirms with probability beta here too. A single bad pair is
 // off alone: the pairs after it fit the estimate and it stays an outlier for the solver's rejection. With Gaussian
 // noise a pair is off with probability below 2 alpha and a false alarm needs the next pairs to confirm by either test,
-// with the scaleless or the metric motions, at beta: below 8 alpha beta (window - 1) = 1.2e-5 per pair at the
-// defaults, about one session in 280 of 300 stations. Where the pair across the change was not off alone (a change near
-// the noise), a later one was: the change is then placed across the pair of the newest that splits them best
-// (ChangeDetector::Locate). A pair tells a change only across its turn: the rotation residual of a pair turning by
-// theta shows about 2 sin(theta / 2) of a rotation change, and of a translation change dt only (R_a - I) dt, its part
-// normal to the turn axis at that factor (0.17-0.28 for tilts of 10-16 deg), so a translation takes more pairs to
-// confirm than a rotation, and changes far below the noise stay undetected and go into the estimate's residuals and
-// std instead.
+// with the scaleless or the metric motions, at beta: below 8 alpha beta (window - 1) = 8e-6 per pair at the
+// defaults, about one session in 400 of 300 stations (a fourth pair would confirm more translations late, and
+// reported a change in 1 of 50 synthetic sessions at handheld noise, 0.5 deg / 5 mm, where three report none). Where
+// the pair across the change was not off alone (a change near the noise), a later one was: the change is then placed
+// across the pair of the newest that splits them best (ChangeDetector::Locate). A pair tells a change only across its
+// turn: the rotation residual of a pair turning by theta shows about 2 sin(theta / 2) of a rotation change, and of a
+// translation change dt only (R_a - I) dt, its part normal to the turn axis at that factor (0.17-0.28 for tilts of
+// 10-16 deg), so a translation takes more pairs to confirm than a rotation, and changes far below the noise stay
+// undetected and go into the estimate's residuals and std instead.
 #pragma once
 
 #include <algorithm>
@@ -65,7 +66,7 @@ struct ChangeDetectionSettings {
   bool enabled = true;
   double off_probability = 5e-4;      // alpha: chance that one test of a pair of an unchanged rig is off
   double confirm_probability = 1e-3;  // beta: chance that pairs of an unchanged rig confirm an off pair
-  int window = 4;                     // newest tested pairs the rule looks at
+  int window = 3;                     // newest tested pairs the rule looks at
   // The pair's noise is the noise the estimate's residuals show, at least this fraction of the nominal.
   double noise_floor_fraction = 0.05;
   // Whether a scaleless camera motion's direction is tested too (when its translation is at least
