@@ -172,7 +172,7 @@ PairTest TestPair(const MotionPair& measured, const HandEyeResult& estimate, con
 }
 
 bool ChangeDetector::Suspicious() const {
-  return std::any_of(recent_.begin(), recent_.end(), [](const TestedPair& t) { return t.off; });
+  return std::any_of(recent_.begin(), recent_.end(), [](const TestedPair& t) { return t.test.off; });
 }
 
 namespace {
@@ -224,26 +224,20 @@ double DirectedChangeScore(const PairTest& across, const std::vector<PairTest>& 
   return a / std::sqrt(variance);
 }
 
-const PairTest& TestedPair::Evidence(bool metric) const {
-  for (const PairTest& t : tests)
-    if (t.metric == metric) return t;
-  return tests.front();
-}
-
-bool ChangeDetector::Confirms(const TestedPair& candidate, bool metric) const {
+bool ChangeDetector::Confirms(const TestedPair& candidate) const {
   std::vector<PairTest> after;
   for (const TestedPair& t : recent_)
-    if (t.station_i >= candidate.station_j) after.push_back(t.Evidence(metric));
+    if (t.station_i >= candidate.station_j) after.push_back(t.test);
   if (after.empty()) return false;
   const int noise_dof = after.back().noise_dof;
   const auto [lambda, dof] = ChangeLikelihoodRatio(after);
   if (dof > 0 && lambda > TestThreshold(dof, noise_dof, settings_.confirm_probability)) return true;
   // One-sided: z > c with P = beta is z^2 > c^2 with P = 2 beta on one degree of freedom.
-  const double z = DirectedChangeScore(candidate.Evidence(metric), after);
+  const double z = DirectedChangeScore(candidate.test, after);
   return z > 0 && z * z > TestThreshold(1, noise_dof, 2 * settings_.confirm_probability);
 }
 
-const TestedPair& ChangeDetector::Locate(const TestedPair& confirmed, bool metric) const {
+const TestedPair& ChangeDetector::Locate(const TestedPair& confirmed) const {
   const TestedPair* best = &confirmed;
   double best_cost = std::numeric_limits<double>::infinity();
   for (const TestedPair& across : recent_) {
@@ -259,7 +253,7 @@ const TestedPair& ChangeDetector::Locate(const TestedPair& confirmed, bool metri
       b.tail(values.size()) = values;
     };
     for (const TestedPair& t : recent_) {
-      const PairTest& e = t.Evidence(metric);
+      const PairTest& e = t.test;
       if (t.station_j <= across.station_i) cost += e.whitened_residual.squaredNorm();
       if (&t == &across) append(e.whitened_change_jacobian, e.whitened_residual);
       if (t.station_i >= across.station_j) append(-e.whitened_jacobian, e.whitened_residual);
@@ -277,29 +271,20 @@ std::optional<int> ChangeDetector::Add(const PairTest& test) {
     return t.station_i == test.station_i && t.station_j == test.station_j;
   });
   if (same != recent_.end()) {
-    if (same->metric_arrived() && !test.metric) return std::nullopt;  // superseded already
     // The metric camera motion of a pair replaces its scaleless one, which the front end's 5-point solver gave
     // alone: a scaleless motion off by the solver's error (a narrow field of view) is not evidence once
     // fusion odometry refined the same motion.
-    auto& tests = same->tests;
-    tests.erase(std::remove_if(tests.begin(), tests.end(),
-                               [&](const PairTest& t) { return test.metric || t.metric == test.metric; }),
-                tests.end());
-    same->tests.push_back(test);
-    same->off = std::any_of(tests.begin(), tests.end(), [](const PairTest& t) { return t.off; });
+    if (same->test.metric && !test.metric) return std::nullopt;
+    same->test = test;
   } else {
-    recent_.push_back({test.station_i, test.station_j, test.off, {test}});
+    recent_.push_back({test.station_i, test.station_j, test});
     while (static_cast<int>(recent_.size()) > settings_.window) recent_.pop_front();
   }
   for (const TestedPair& candidate : recent_) {
-    if (!candidate.off) continue;
-    for (const bool metric : {false, true}) {
-      // Off by the tests of this kind and confirmed by the tests of the same kind.
-      if (!candidate.Evidence(metric).off || !Confirms(candidate, metric)) continue;
-      const int after_station = Locate(candidate, metric).station_i;
-      recent_.clear();
-      return after_station;
-    }
+    if (!candidate.test.off || !Confirms(candidate)) continue;
+    const int after_station = Locate(candidate).station_i;
+    recent_.clear();
+    return after_station;
   }
   return std::nullopt;
 }

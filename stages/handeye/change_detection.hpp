@@ -51,7 +51,6 @@
 // undetected and go into the estimate's residuals and std instead.
 #pragma once
 
-#include <algorithm>
 #include <deque>
 #include <optional>
 #include <string>
@@ -127,17 +126,11 @@ double TestThreshold(int dof, int noise_dof, double alpha);
 // The chi^2 quantile for upper-tail probability `alpha` with `dof` degrees of freedom.
 double ChiSquareQuantile(int dof, double alpha);
 
-// A pair's tests: of its scaleless camera motion, of its metric one, or both.
+// A pair's newest test: of its scaleless camera motion until fusion odometry's metric one replaces it.
 struct TestedPair {
   int station_i = -1;
   int station_j = -1;
-  bool off = false;  // either test is
-  std::vector<PairTest> tests;
-  // The test of that kind, else the other.
-  const PairTest& Evidence(bool metric) const;
-  bool metric_arrived() const {
-    return std::any_of(tests.begin(), tests.end(), [](const PairTest& t) { return t.metric; });
-  }
+  PairTest test;
 };
 
 // The rule above over the pairs tested since the last change, in their order of arrival.
@@ -146,9 +139,7 @@ class ChangeDetector {
   explicit ChangeDetector(ChangeDetectionSettings settings = {}) : settings_(settings) {}
   // Adds the newest test, or the metric test of a pair already there (which replaces its scaleless one; a
   // scaleless test after it is ignored); the station after which the extrinsic changed when the rule
-  // decides. A pair off by the test of its scaleless motion is confirmed by the tests of the scaleless
-  // motions after it, one off by its metric test by theirs (a pair without a test of that kind yet takes
-  // part with the one it has).
+  // decides. Each pair takes part with the test it holds.
   std::optional<int> Add(const PairTest& test);
   void Reset() { recent_.clear(); }
   // Whether the newest pairs hold an off pair (a change may be under way).
@@ -156,11 +147,11 @@ class ChangeDetector {
   const std::deque<TestedPair>& recent() const { return recent_; }
 
  private:
-  // Whether the pairs after `candidate` confirm it, by their tests of that kind where they have one.
-  bool Confirms(const TestedPair& candidate, bool metric) const;
+  // Whether the pairs after `candidate` confirm it.
+  bool Confirms(const TestedPair& candidate) const;
   // The pair across the change among the newest up to `confirmed`: the split that explains them best (least
   // whitened squares: pairs before it fit the estimate, it fits K delta, the pairs after it -J_X delta).
-  const TestedPair& Locate(const TestedPair& confirmed, bool metric) const;
+  const TestedPair& Locate(const TestedPair& confirmed) const;
 
   ChangeDetectionSettings settings_;
   std::deque<TestedPair> recent_;

@@ -93,10 +93,10 @@ TEST(ChangeDetector, AnOffPairIsAChangeOnlyWhenThePairsAfterItConfirmIt) {
   metric.metric = true;
   EXPECT_FALSE(detector.Add(metric));
   ASSERT_EQ(detector.recent().size(), 1u);
-  EXPECT_FALSE(detector.recent()[0].off);
+  EXPECT_FALSE(detector.recent()[0].test.off);
   EXPECT_FALSE(detector.Add(MakeTest(6, 100, true, moved)));
-  ASSERT_EQ(detector.recent()[0].tests.size(), 1u);
-  EXPECT_TRUE(detector.recent()[0].tests[0].metric);
+  ASSERT_EQ(detector.recent().size(), 1u);
+  EXPECT_TRUE(detector.recent()[0].test.metric);
   EXPECT_FALSE(detector.Suspicious());
 }
 
