@@ -7,8 +7,15 @@
 //   state  everything the answer depends on (STATION, motions, EXTRINSIC, FUSED_MOTIONS, CAMERA_INFO,
 //          ...): every message, in order (DDS: reliable, deep enough for a round; STATION keep all).
 // A channel this table does not name (a user's own) is state.
+//
+// A rig of several cameras: each camera has its own image, camera info, station, camera motion, fused
+// motion and extrinsic channel, the pipeline's name with _<camera> appended (CAMERA_IMAGE_front, STATION_front,
+// EXTRINSIC_front, ...); LIDAR_SCAN, LIDAR_MOTION, STATUS and GROUND_TRUTH are the rig's. The one camera of a
+// one-camera rig has no name and the plain channels.
 #pragma once
 
+#include <mutex>
+#include <set>
 #include <string>
 
 #include "fusecal/camera_info_t.hpp"
@@ -69,10 +76,39 @@ inline constexpr ChannelTraits kPipelineChannels[] = {
     TraitsOf(channels::kFusedMotions), TraitsOf(channels::kExtrinsic),   TraitsOf(channels::kStatus),
     TraitsOf(channels::kGroundTruth)};
 
-// The pipeline channel called `name`, or nullptr.
+// The channels each camera of a rig has its own of.
+inline constexpr const char* kPerCameraChannels[] = {channels::kCameraImage.name,  channels::kCameraInfo.name,
+                                                     channels::kStation.name,      channels::kCameraMotion.name,
+                                                     channels::kFusedMotions.name, channels::kExtrinsic.name};
+
+// `channel` of the camera `camera`: channel_camera, or channel itself for the unnamed camera.
+inline std::string CameraChannelName(const std::string& channel, const std::string& camera) {
+  return camera.empty() ? channel : channel + "_" + camera;
+}
+
+// The same channel of the camera `camera`. Channel names are kept for the life of the process (a rig has
+// a handful of cameras).
+template <typename M>
+Channel<M> ForCamera(const Channel<M>& channel, const std::string& camera) {
+  if (camera.empty()) return channel;
+  static std::mutex mutex;
+  static std::set<std::string> names;  // nodes of a set never move: their c_str() stays valid
+  std::lock_guard<std::mutex> lock(mutex);
+  const std::string& name = *names.insert(CameraChannelName(channel.name, camera)).first;
+  return Channel<M>{name.c_str(), channel.kind, channel.large};
+}
+
+// The pipeline channel called `name`, or nullptr; a camera's own channel (STATION_front) is its
+// pipeline channel's (STATION).
 inline const ChannelTraits* FindPipelineChannel(const std::string& name) {
   for (const auto& channel : kPipelineChannels)
     if (name == channel.name) return &channel;
+  for (const char* per_camera : kPerCameraChannels) {
+    const std::string prefix = std::string(per_camera) + "_";
+    if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0)
+      for (const auto& channel : kPipelineChannels)
+        if (std::string(per_camera) == channel.name) return &channel;
+  }
   return nullptr;
 }
 
@@ -83,5 +119,21 @@ inline ChannelTraits TraitsOfChannel(const std::string& name) {
 }
 
 inline bool IsPipelineChannel(const std::string& name) { return FindPipelineChannel(name) != nullptr; }
+
+// The camera whose own channel `name` is ("front" for STATION_front); "" for any other channel.
+inline std::string CameraOfChannel(const std::string& name) {
+  for (const char* per_camera : kPerCameraChannels) {
+    const std::string prefix = std::string(per_camera) + "_";
+    if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0) return name.substr(prefix.size());
+  }
+  return "";
+}
+
+// The pipeline channel a channel is, whichever camera's: "STATION" for STATION and STATION_front; "" for a
+// channel the pipeline does not use.
+inline std::string PipelineChannelOf(const std::string& name) {
+  const ChannelTraits* channel = FindPipelineChannel(name);
+  return channel ? channel->name : "";
+}
 
 }  // namespace fusecal

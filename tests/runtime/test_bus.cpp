@@ -55,6 +55,15 @@ TEST(Channels, TheTableSaysWhichChannelsAreBulkAndWhichAreLarge) {
   EXPECT_FALSE(TraitsOfChannel("EXTRINSIC").large);
   EXPECT_EQ(TraitsOfChannel("MY_OWN").kind, ChannelKind::kState);
   EXPECT_FALSE(IsPipelineChannel("MY_OWN"));
+  // A camera's own channels are carried as the pipeline's.
+  EXPECT_EQ(TraitsOfChannel("CAMERA_IMAGE_front").kind, ChannelKind::kBulk);
+  EXPECT_TRUE(TraitsOfChannel("STATION_left").large);
+  EXPECT_EQ(TraitsOfChannel("EXTRINSIC_left").kind, ChannelKind::kState);
+  EXPECT_TRUE(IsPipelineChannel("FUSED_MOTIONS_rear"));
+  EXPECT_FALSE(IsPipelineChannel("LIDAR_SCAN_front"));  // the rig's: no camera's own
+  EXPECT_FALSE(IsPipelineChannel("STATION_"));
+  EXPECT_STREQ(ForCamera(channels::kStation, "front").name, "STATION_front");
+  EXPECT_STREQ(ForCamera(channels::kStation, "").name, "STATION");
   EXPECT_EQ(std::size(kPipelineChannels), 10u);
 }
 
