@@ -31,6 +31,12 @@ int LidarParams::Columns() const {
 
 std::string DefaultScenarioDir() { return FUSECAL_SCENARIO_DIR; }
 
+int Scenario::CameraIndex(const std::string& camera_name) const {
+  for (size_t i = 0; i < cameras.size(); ++i)
+    if (cameras[i].name == camera_name) return static_cast<int>(i);
+  return -1;
+}
+
 namespace {
 
 using Vec = std::vector<double>;
@@ -67,7 +73,9 @@ Isometry3 FromRpyXyz(const Vec& rpy_deg, const Vec& xyz) {
   return MakeIsometry(RotationFromRpy(rpy_deg[0] * d2r, rpy_deg[1] * d2r, rpy_deg[2] * d2r), ToVector3(xyz));
 }
 
-void ReadCamera(ConfigReader r, CameraSettings* cam) {
+// The keys of a camera: of the `camera:` section, or of an entry of `cameras:` (which has its name and
+// extrinsic besides; the caller reads those and finishes the reader).
+void ReadCameraKeys(ConfigReader& r, CameraSettings* cam) {
   CameraParams& p = cam->params;
   r.Require("model", &p.model, OneOf({"pinhole", "equirectangular"}));
   r.Require("width", &p.width, Positive<int>());
@@ -98,6 +106,10 @@ void ReadCamera(ConfigReader r, CameraSettings* cam) {
     const auto colon = problem.find(':');
     r.Fail(problem.substr(0, colon), problem.substr(colon + 2));
   }
+}
+
+void ReadCamera(ConfigReader r, CameraSettings* cam) {
+  ReadCameraKeys(r, cam);
   r.Finish();
 }
 
@@ -186,20 +198,87 @@ void ReadExtrinsic(ConfigReader r, Isometry3* T) {
   *T = FromRpyXyz(rpy, xyz);
 }
 
-// extrinsic_changes: a list of {after_stop, delta_rpy_deg, delta_xyz_m}; a change needs a motion after
-// its stop, and the stops increase.
-void ReadExtrinsicChanges(ConfigReader& r, const MotionParams& m, std::vector<ExtrinsicChange>* changes) {
+// A camera's name: 1-32 characters of [A-Za-z0-9_], starting with a letter (it ends channel names).
+std::string CheckCameraName(const std::string& name) {
+  const auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); };
+  if (name.empty() || name.size() > 32) return "must have 1 to 32 characters";
+  if (!letter(name[0])) return "must start with a letter";
+  for (char c : name)
+    if (!letter(c) && !(c >= '0' && c <= '9') && c != '_')
+      return "must hold only letters, digits and _ (it ends the camera's channel names)";
+  return std::string();
+}
+
+// The rig's cameras: either `camera:` and `extrinsic:` (one camera, no name) or `cameras:`, a list of
+// named cameras, each with the keys of `camera:` and its own `extrinsic:`.
+void ReadCameras(ConfigReader& r, Scenario* s) {
+  const bool one = r.Has("camera"), several = r.Has("cameras");
+  if (one && several)
+    r.Fail("cameras",
+           "and 'camera' are both given: a scenario has either one camera (camera: and extrinsic:) or "
+           "a list of named cameras (cameras:, each with its own extrinsic:)");
+  if (!one && !several) r.Fail("camera", "is required (or cameras:, a list of named cameras)");
+  if (one) {
+    if (!r.Has("extrinsic")) r.Fail("extrinsic", "is required");
+    RigCamera camera;
+    ReadCamera(r.Child("camera"), &camera.settings);
+    ReadExtrinsic(r.Child("extrinsic"), &camera.T_camera_lidar);
+    s->cameras = {camera};
+    return;
+  }
+  if (r.Has("extrinsic"))
+    r.Fail("extrinsic", "goes inside each entry of cameras: (cameras[k].extrinsic), not beside it");
+  std::vector<ConfigReader> items = r.Items("cameras");
+  if (items.empty()) r.Fail("cameras", "must list one camera at least");
+  s->cameras.clear();
+  for (ConfigReader& item : items) {
+    RigCamera camera;
+    item.Require("name", &camera.name, Check<std::string>(CheckCameraName));
+    for (size_t k = 0; k < s->cameras.size(); ++k)
+      if (s->cameras[k].name == camera.name)
+        item.Fail("name",
+                  "'" + camera.name + "' is the name of cameras[" + std::to_string(k) + "] too: names are unique");
+    ReadCameraKeys(item, &camera.settings);
+    if (!item.Has("extrinsic")) item.Fail("extrinsic", "is required");
+    ReadExtrinsic(item.Child("extrinsic"), &camera.T_camera_lidar);
+    item.Finish();
+    s->cameras.push_back(camera);
+  }
+}
+
+// extrinsic_changes: a list of {after_stop, delta_rpy_deg, delta_xyz_m, camera}; camera (a name, default
+// the first camera) says which camera moved; a change needs a motion after its stop, and each camera's
+// stops increase.
+void ReadExtrinsicChanges(ConfigReader& r, const Scenario& s, std::vector<ExtrinsicChange>* changes) {
+  const MotionParams& m = s.motions;
   const int stops = m.horizontal + m.vertical + 1;
   for (ConfigReader item : r.Items("extrinsic_changes")) {
     ExtrinsicChange c;
+    std::string camera = s.cameras.front().name;
+    item.Get("camera", &camera, Check<std::string>([&s](const std::string& name) {
+               if (s.CameraIndex(name) >= 0) return std::string();
+               if (s.cameras.size() == 1 && s.cameras.front().name.empty())
+                 return std::string("names no camera: the rig's one camera (camera:) has no name, leave the key out");
+               std::string names;
+               for (const RigCamera& rc : s.cameras) names += (names.empty() ? "" : ", ") + rc.name;
+               return "must name a camera of cameras: (" + names + ")";
+             }));
+    c.camera = s.CameraIndex(camera);
+    const ExtrinsicChange* previous = nullptr;  // the same camera's
+    for (const ExtrinsicChange& other : *changes)
+      if (other.camera == c.camera) previous = &other;
     item.Require("after_stop", &c.after_stop, Check<int>([stops](const int& v) {
                    if (v >= 1 && v <= stops - 1) return std::string();
                    return "must be in [1, " + std::to_string(stops - 1) + "]: a stop (counted from 1) with a " +
                           "motion after it, of the scenario's " + std::to_string(stops) + " stops";
                  }));
-    if (!changes->empty() && c.after_stop <= changes->back().after_stop)
-      item.Fail("after_stop", "must exceed the previous change's after_stop (" +
-                                  std::to_string(changes->back().after_stop) + "): one change per stop, in order");
+    if (previous && c.after_stop <= previous->after_stop)
+      item.Fail("after_stop", camera.empty()
+                                  ? "must exceed the previous change's after_stop (" +
+                                        std::to_string(previous->after_stop) + "): one change per stop, in order"
+                                  : "must exceed the after_stop (" + std::to_string(previous->after_stop) +
+                                        ") of camera " + camera +
+                                        "'s previous change: one change per stop and camera, in order");
     Vec rpy, xyz;
     item.Require("delta_rpy_deg", &rpy, SizeIs(3));
     item.Require("delta_xyz_m", &xyz, SizeIs(3));
@@ -260,7 +339,9 @@ void ReadRig(ConfigReader r, Scenario* s) {
 void CheckSessionLength(ConfigReader& r, const Scenario& s) {
   const MotionParams& m = s.motions;
   const double seconds = (m.horizontal + m.vertical + 1.0) * m.still_s + (m.horizontal + m.vertical) * m.move_max_s;
-  const double frames = seconds * (s.camera.rate_hz + s.lidar.rate_hz);
+  double rates_hz = s.lidar.rate_hz;
+  for (const RigCamera& camera : s.cameras) rates_hz += camera.settings.rate_hz;
+  const double frames = seconds * rates_hz;
   if (frames > kMaxFramesPerSession)
     r.Fail("motions", "make a session of up to " + std::to_string(static_cast<int64_t>(seconds)) + " s with " +
                           std::to_string(static_cast<int64_t>(frames)) + " camera and LiDAR frames: at most " +
@@ -274,15 +355,14 @@ Scenario Read(ConfigReader r, const std::string& name) {
   r.Require("scene", &s.scene, OneOf({"indoor", "outdoor"}));
   if (s.scene == "outdoor") s.rig_position_m = Eigen::Vector3d(0.0, 0.0, 1.8);
   r.Get("start_utime", &s.start_utime, NonNegative<int64_t>());
-  for (const char* section : {"camera", "lidar", "extrinsic", "motions", "noise"})
+  ReadCameras(r, &s);
+  for (const char* section : {"lidar", "motions", "noise"})
     if (!r.Has(section)) r.Fail(section, "is required");
-  ReadCamera(r.Child("camera"), &s.camera);
   ReadLidar(r.Child("lidar"), &s.lidar);
-  ReadExtrinsic(r.Child("extrinsic"), &s.T_camera_lidar);
   ReadRig(r.Child("rig"), &s);
   ReadMotions(r.Child("motions"), &s.motions);
   ReadNoise(r.Child("noise"), &s.noise, &s.lidar);
-  ReadExtrinsicChanges(r, s.motions, &s.extrinsic_changes);
+  ReadExtrinsicChanges(r, s, &s.extrinsic_changes);
   CheckSessionLength(r, s);
   r.Finish();
   return s;

@@ -87,11 +87,21 @@ struct NoiseParams {
   double exposure_sigma = 0.0;  // per-frame gain = exp(sigma * N(0, 1))
 };
 
-// The camera moved on its mount during a session: from the middle of the motion after stop after_stop
-// (stops counted from 1) the extrinsic is the previous one times delta, delta in the LiDAR frame.
+// A camera moved on its mount during a session: from the middle of the motion after stop after_stop
+// (stops counted from 1) its extrinsic is the previous one times delta, delta in the LiDAR frame.
 struct ExtrinsicChange {
   int after_stop = 1;
   Isometry3 delta = Isometry3::Identity();
+  int camera = 0;  // which camera moved: an index into Scenario::cameras
+};
+
+// A camera of the rig: its name (empty for the one camera of a scenario with a `camera:` section; else
+// 1-32 characters of [A-Za-z0-9_], starting with a letter: its channels end in _<name>), its settings
+// and its true extrinsic at the start.
+struct RigCamera {
+  std::string name;
+  CameraSettings settings;
+  Isometry3 T_camera_lidar = Isometry3::Identity();
 };
 
 struct Scenario {
@@ -99,14 +109,21 @@ struct Scenario {
   uint64_t seed = 1;
   std::string scene = "indoor";  // "indoor" or "outdoor"
   int64_t start_utime = 1700000000000000;
-  CameraSettings camera;
+  std::vector<RigCamera> cameras{RigCamera{}};  // one at least; `camera:` gives one with no name
   LidarParams lidar;
-  Isometry3 T_camera_lidar = Isometry3::Identity();  // at the start
-  std::vector<ExtrinsicChange> extrinsic_changes;    // in order of after_stop, one per stop at most
-  Eigen::Vector3d rig_position_m{0.4, 0.3, 1.5};     // LiDAR origin at the start, world frame (z up)
+  std::vector<ExtrinsicChange> extrinsic_changes;  // each camera's in order of after_stop, one per stop at most
+  Eigen::Vector3d rig_position_m{0.4, 0.3, 1.5};   // LiDAR origin at the start, world frame (z up)
   double rig_yaw_deg = 10.0;
   MotionParams motions;
   NoiseParams noise;
+
+  // The first camera (the only one of a one-camera rig).
+  CameraSettings& camera() { return cameras.front().settings; }
+  const CameraSettings& camera() const { return cameras.front().settings; }
+  Isometry3& T_camera_lidar() { return cameras.front().T_camera_lidar; }  // at the start
+  const Isometry3& T_camera_lidar() const { return cameras.front().T_camera_lidar; }
+  // Index of the camera called `name` in cameras, or -1.
+  int CameraIndex(const std::string& name) const;
 };
 
 // Loads and validates a scenario file. Throws fusecal::ConfigError naming the offending key.

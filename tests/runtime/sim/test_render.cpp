@@ -36,7 +36,7 @@ class SimDefaultScene : public ::testing::Test {
     scenario_ = new Scenario(LoadScenario(testing::ScenarioPath("indoor-equirect-hdl64.yaml")));
     scene_ = new Scene(BuildScene(*scenario_));
     trajectory_ = new Trajectory(BuildTrajectory(*scenario_));
-    camera_ = MakeCameraModel(scenario_->camera.params).release();
+    camera_ = MakeCameraModel(scenario_->camera().params).release();
   }
   static void TearDownTestSuite() {
     delete scenario_;
@@ -46,12 +46,12 @@ class SimDefaultScene : public ::testing::Test {
   }
   static RenderOptions Options() {
     RenderOptions o;
-    o.supersample = scenario_->camera.supersample;
+    o.supersample = scenario_->camera().supersample;
     o.noise_sigma = scenario_->noise.image_sigma;
     return o;
   }
   static Isometry3 CameraPose(const Isometry3& T_world_lidar) {
-    return T_world_lidar * scenario_->T_camera_lidar.inverse();
+    return T_world_lidar * scenario_->T_camera_lidar().inverse();
   }
   static Scenario* scenario_;
   static Scene* scene_;
@@ -146,7 +146,7 @@ TEST_F(SimDefaultScene, RenderMatchesCameraModelGeometry) {
 TEST(SimRender, PinholeRayTableMatchesModel) {
   // The interpolated ray table of a distorted pinhole camera agrees with CameraModel::Unproject.
   const Scenario s = LoadScenario(testing::ScenarioPath("indoor-pinhole-hdl64.yaml"));
-  const auto camera = MakeCameraModel(s.camera.params);
+  const auto camera = MakeCameraModel(s.camera().params);
   const CameraRays rays(*camera, 2);
   ASSERT_EQ(rays.grid.rows(), 1440);
   ASSERT_EQ(rays.grid.cols(), 2560);
@@ -158,14 +158,14 @@ TEST(SimRender, PinholeRayTableMatchesModel) {
       const Eigen::Vector3d grid = (rays.grid.frame() * rays.grid.Direction(r, c)).cast<double>();
       worst = std::max(worst, std::acos(std::min(1.0, exact.dot(grid.normalized()))));
     }
-  EXPECT_LT(worst / (1.0 / s.camera.params.fx), 0.01) << "worst error in pixels";
+  EXPECT_LT(worst / (1.0 / s.camera().params.fx), 0.01) << "worst error in pixels";
 }
 
 TEST(SimRender, SameSeedSameBytesDifferentSeedDifferent) {
   const Scenario s = LoadScenario(testing::ScenarioPath("tiny-equirect.yaml"));
   const Scene scene = BuildScene(s);
-  const auto camera = MakeCameraModel(s.camera.params);
-  const Isometry3 T = BuildTrajectory(s).T_world_lidar(0.0) * s.T_camera_lidar.inverse();
+  const auto camera = MakeCameraModel(s.camera().params);
+  const Isometry3 T = BuildTrajectory(s).T_world_lidar(0.0) * s.T_camera_lidar().inverse();
   RenderOptions o;
   o.noise_sigma = 2.0;
   o.threads = 1;
@@ -244,7 +244,7 @@ TEST(SimRender, StationsAreGroundTruth) {
   ASSERT_EQ(stations.size(), 5u);
   for (const auto& st : stations) {
     EXPECT_EQ(st.still_to_utime - st.still_from_utime, std::llround(s.motions.still_s * 1e6));
-    EXPECT_TRUE(st.T_world_camera.isApprox(st.T_world_lidar * s.T_camera_lidar.inverse(), 1e-12));
+    EXPECT_TRUE(st.T_world_camera.isApprox(st.T_world_lidar * s.T_camera_lidar().inverse(), 1e-12));
   }
   EXPECT_EQ(stations[0].still_from_utime, s.start_utime);
   Event e;
@@ -274,8 +274,8 @@ TEST(SimRender, CameraMovedOnItsMountIsRenderedWithTheExtrinsicInForce) {
   const auto& epochs = sim.extrinsics();
   ASSERT_EQ(epochs.size(), 3u);
   EXPECT_EQ(epochs[0].from_utime, s.start_utime);
-  EXPECT_TRUE(epochs[1].T_camera_lidar.isApprox(s.T_camera_lidar * delta_a, 1e-12));
-  EXPECT_TRUE(epochs[2].T_camera_lidar.isApprox(s.T_camera_lidar * delta_a * delta_b, 1e-12));
+  EXPECT_TRUE(epochs[1].T_camera_lidar.isApprox(s.T_camera_lidar() * delta_a, 1e-12));
+  EXPECT_TRUE(epochs[2].T_camera_lidar.isApprox(s.T_camera_lidar() * delta_a * delta_b, 1e-12));
   const auto stations = sim.Stations();
   ASSERT_EQ(stations.size(), 3u);
   for (size_t k = 1; k < 3; ++k) {  // in the middle of the motion after stop k
@@ -290,7 +290,7 @@ TEST(SimRender, CameraMovedOnItsMountIsRenderedWithTheExtrinsicInForce) {
   for (const auto& epoch : epochs) {
     Scenario fixed = s;
     fixed.extrinsic_changes.clear();
-    fixed.T_camera_lidar = epoch.T_camera_lidar;
+    fixed.T_camera_lidar() = epoch.T_camera_lidar;
     unchanged.push_back(std::make_unique<Simulation>(fixed));
   }
   std::vector<int> frames = {2};  // a still frame at the first station, then around each change and after it

@@ -56,26 +56,26 @@ TEST(SimScenario, ShippedScenariosLoad) {
     SCOPED_TRACE(name);
     Scenario s;
     ASSERT_NO_THROW(s = LoadScenario(testing::ScenarioPath(name)));
-    EXPECT_TRUE(s.camera.params.Validate().empty());
-    EXPECT_TRUE(IsValidTransform(s.T_camera_lidar));
+    EXPECT_TRUE(s.camera().params.Validate().empty());
+    EXPECT_TRUE(IsValidTransform(s.T_camera_lidar()));
   }
 }
 
 TEST(SimScenario, DefaultScenarioValues) {
   const Scenario s = LoadScenario(testing::ScenarioPath("indoor-equirect-hdl64.yaml"));
   EXPECT_EQ(s.scene, "indoor");
-  EXPECT_EQ(s.camera.params.model, "equirectangular");
-  EXPECT_EQ(s.camera.params.width, 2048);
-  EXPECT_EQ(s.camera.params.height, 1024);
+  EXPECT_EQ(s.camera().params.model, "equirectangular");
+  EXPECT_EQ(s.camera().params.width, 2048);
+  EXPECT_EQ(s.camera().params.height, 1024);
   EXPECT_EQ(s.lidar.beams, 64);
   EXPECT_EQ(s.lidar.Columns(), 2000);
   EXPECT_EQ(s.motions.horizontal, 5);
   EXPECT_EQ(s.motions.vertical, 5);
   EXPECT_DOUBLE_EQ(s.motions.still_s, 3.0);
   // The camera looks along the LiDAR's x axis, about 13 cm from it.
-  const Eigen::Vector3d forward = s.T_camera_lidar.linear() * Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d forward = s.T_camera_lidar().linear() * Eigen::Vector3d::UnitX();
   EXPECT_GT(forward.z(), 0.99);
-  EXPECT_NEAR(s.T_camera_lidar.inverse().translation().norm(), 0.133, 0.005);
+  EXPECT_NEAR(s.T_camera_lidar().inverse().translation().norm(), 0.133, 0.005);
   const std::vector<double> el = s.lidar.ElevationsRad();
   ASSERT_EQ(el.size(), 64u);
   EXPECT_NEAR(el.front() * 180 / M_PI, 2.0, 1e-9);
@@ -84,8 +84,8 @@ TEST(SimScenario, DefaultScenarioValues) {
 
 TEST(SimScenario, PinholeNinetyDegrees) {
   const Scenario s = LoadScenario(testing::ScenarioPath("indoor-pinhole-hdl64.yaml"));
-  EXPECT_EQ(s.camera.params.model, "pinhole");
-  EXPECT_NEAR(2.0 * std::atan(s.camera.params.width / 2.0 / s.camera.params.fx) * 180 / M_PI, 90.0, 0.1);
+  EXPECT_EQ(s.camera().params.model, "pinhole");
+  EXPECT_NEAR(2.0 * std::atan(s.camera().params.width / 2.0 / s.camera().params.fx) * 180 / M_PI, 90.0, 0.1);
 }
 
 TEST_F(SimBadScenario, BaseIsValid) { EXPECT_NO_THROW(LoadText(base_)); }

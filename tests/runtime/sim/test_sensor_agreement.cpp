@@ -21,23 +21,23 @@ struct Correlations {
 Correlations Measure(const std::string& scenario_file, int station) {
   const Scenario s = LoadScenario(testing::ScenarioPath(scenario_file));
   const Scene scene = BuildScene(s);
-  const auto camera = MakeCameraModel(s.camera.params);
+  const auto camera = MakeCameraModel(s.camera().params);
   const Isometry3 T_world_lidar = BuildTrajectory(s).stills().at(station).T_world_lidar;
   RenderOptions o;
-  o.supersample = s.camera.supersample;
+  o.supersample = s.camera().supersample;
   o.noise_sigma = s.noise.image_sigma;
-  const cv::Mat image = RenderImage(scene, *camera, T_world_lidar * s.T_camera_lidar.inverse(), o, 100);
+  const cv::Mat image = RenderImage(scene, *camera, T_world_lidar * s.T_camera_lidar().inverse(), o, 100);
   const SimulatedScan scan = ScanLidar(scene, s.lidar, T_world_lidar, 200);
 
   Correlations c;
   size_t used = 0;
-  c.truth = testing::IntensityCorrelation(scan, image, *camera, s.T_camera_lidar, &used);
+  c.truth = testing::IntensityCorrelation(scan, image, *camera, s.T_camera_lidar(), &used);
   EXPECT_GT(used, 10000u);
   for (int axis = 0; axis < 3; ++axis) {
-    Isometry3 rotated = s.T_camera_lidar;
+    Isometry3 rotated = s.T_camera_lidar();
     rotated.prerotate(Eigen::AngleAxisd(M_PI / 180.0, Eigen::Vector3d::Unit(axis)));
     c.perturbed.push_back(testing::IntensityCorrelation(scan, image, *camera, rotated));
-    Isometry3 shifted = s.T_camera_lidar;
+    Isometry3 shifted = s.T_camera_lidar();
     shifted.pretranslate(0.05 * Eigen::Vector3d::Unit(axis));
     c.perturbed.push_back(testing::IntensityCorrelation(scan, image, *camera, shifted));
   }

@@ -19,7 +19,7 @@ const Recording& HandheldRecording(const std::string& file) {
   sim::Scenario s = sim::LoadScenario(ScenarioPath(file));
   s.motions.horizontal = 2;
   s.motions.vertical = 2;
-  CameraParams& c = s.camera.params;
+  CameraParams& c = s.camera().params;
   c.width /= 2;
   c.height /= 2;
   c.fx /= 2;

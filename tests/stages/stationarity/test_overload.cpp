@@ -35,7 +35,7 @@ Outcome Play(int burst, int queue_depth) {
       channels::kStation.name, std::function<void(const station_t&)>([&](const station_t&) { ++out.stations; }));
   node.Start(*bus);
   const Recording& r = TinyRecording();
-  bus->Publish(channels::kCameraInfo, CameraToMsg(r.scenario.camera.params, r.frames.front().utime));
+  bus->Publish(channels::kCameraInfo, CameraToMsg(r.scenario.camera().params, r.frames.front().utime));
   auto settle = [&] {
     while (bus->Handle(0) > 0) {
     }

@@ -3,12 +3,19 @@
 // per still interval instead of the streams (for testing stages without the stationarity detector).
 // GROUND_TRUTH: one message per extrinsic (more than one when the scenario moves the camera on its
 // mount), each written at the utime from which it holds.
+// A rig of named cameras (scenario cameras:): each camera has its own CAMERA_IMAGE_<name>,
+// CAMERA_INFO_<name> and STATION_<name> (the same station ids and cloud, the camera's own image), its
+// camera_info_t.name is <name>, and GROUND_TRUTH has one message per camera and extrinsic (its
+// camera.name says which). A one-camera scenario's camera has no name and the plain channels.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <numeric>
+#include <vector>
 
 #include "commands.hpp"
 #include "fusecal/ground_truth_t.hpp"
@@ -35,16 +42,25 @@ PointCloud ToCloud(const sim::SimulatedScan& scan) {
   return cloud;
 }
 
-// The truth with the extrinsic that holds from epoch.from_utime.
+// Camera i's camera info, named as the camera.
+camera_info_t CameraInfo(const sim::Simulation& sim, int i, int64_t utime) {
+  camera_info_t info = CameraToMsg(sim.camera(i).params(), utime);
+  info.name = sim.camera_name(i);
+  return info;
+}
+
+// The truth with the extrinsic of camera epoch.camera that holds from epoch.from_utime.
 ground_truth_t MakeGroundTruth(sim::Simulation& sim, const sim::ExtrinsicEpoch& epoch) {
   const int64_t utime = epoch.from_utime;
+  const std::string& name = sim.camera_name(epoch.camera);
   ground_truth_t truth{};
   truth.utime = utime;
   truth.source = "simulation: scenario " + sim.scenario().name + ", seed " + std::to_string(sim.scenario().seed);
   if (epoch.after_stop > 0)
-    truth.source += ", camera moved on its mount after stop " + std::to_string(epoch.after_stop);
+    truth.source += ", camera " + (name.empty() ? std::string() : name + " ") + "moved on its mount after stop " +
+                    std::to_string(epoch.after_stop);
   ToRowMajor(epoch.T_camera_lidar, truth.T_camera_lidar);
-  truth.camera = CameraToMsg(sim.camera().params(), utime);
+  truth.camera = CameraInfo(sim, epoch.camera, utime);
   for (const auto& s : sim.Stations()) {
     truth.station_id.push_back(s.id);
     std::vector<double> m(16);
@@ -66,20 +82,27 @@ int NearestFrame(const std::vector<int64_t>& times, int64_t start, int64_t from,
   return best;
 }
 
-// Writes the GROUND_TRUTH messages that hold from `utime` or earlier and are not written yet.
+// Writes the GROUND_TRUTH messages that hold from `utime` or earlier and are not written yet: every
+// camera's extrinsics, in time order (cameras by index on equal utime).
 class TruthWriter {
  public:
-  TruthWriter(sim::Simulation& sim, LogWriter& writer) : sim_(sim), writer_(writer) {}
+  TruthWriter(sim::Simulation& sim, LogWriter& writer) : sim_(sim), writer_(writer) {
+    for (int i = 0; i < sim.num_cameras(); ++i)
+      epochs_.insert(epochs_.end(), sim.extrinsics(i).begin(), sim.extrinsics(i).end());
+    std::stable_sort(epochs_.begin(), epochs_.end(), [](const sim::ExtrinsicEpoch& a, const sim::ExtrinsicEpoch& b) {
+      return a.from_utime < b.from_utime;
+    });
+  }
   void WriteUpTo(int64_t utime) {
-    const auto& epochs = sim_.extrinsics();
-    for (; next_ < epochs.size() && epochs[next_].from_utime <= utime; ++next_)
-      writer_.WriteMessage(channels::kGroundTruth, epochs[next_].from_utime, MakeGroundTruth(sim_, epochs[next_]));
+    for (; next_ < epochs_.size() && epochs_[next_].from_utime <= utime; ++next_)
+      writer_.WriteMessage(channels::kGroundTruth, epochs_[next_].from_utime, MakeGroundTruth(sim_, epochs_[next_]));
   }
   void WriteRest() { WriteUpTo(std::numeric_limits<int64_t>::max()); }
 
  private:
   sim::Simulation& sim_;
   LogWriter& writer_;
+  std::vector<sim::ExtrinsicEpoch> epochs_;
   size_t next_ = 0;
 };
 
@@ -93,7 +116,9 @@ void Simulate(const std::string& scenario_path, const std::string& out, std::opt
   const std::string partial = out + ".partial";
   LogWriter writer(partial);
   const int64_t t0 = scenario.start_utime;
-  writer.WriteMessage(channels::kCameraInfo, t0, CameraToMsg(sim.camera().params(), t0));
+  const int cameras = sim.num_cameras();
+  for (int i = 0; i < cameras; ++i)
+    writer.WriteMessage(ForCamera(channels::kCameraInfo, sim.camera_name(i)), t0, CameraInfo(sim, i, t0));
   TruthWriter truths(sim, writer);
   truths.WriteUpTo(t0);
   int written = 0;
@@ -101,20 +126,31 @@ void Simulate(const std::string& scenario_path, const std::string& out, std::opt
     const auto stations = sim.Stations();
     ProgressLine progress("simulating stations");
     for (const auto& s : stations) {
-      const auto camera =
-          sim.RenderCameraFrame(NearestFrame(sim.camera_times(), t0, s.still_from_utime, s.still_to_utime));
       const auto lidar =
           sim.RenderLidarFrame(NearestFrame(sim.lidar_times(), t0, s.still_from_utime, s.still_to_utime));
-      station_t station{};
-      station.utime = std::max(camera.utime, lidar.utime);
-      station.id = s.id;
-      station.still_from_utime = s.still_from_utime;
-      station.still_to_utime = s.still_to_utime;
-      station.image = MatToImage(camera.image, encoding, camera.utime);
-      station.cloud = CloudToMsg(ToCloud(lidar.scan), lidar.utime);
-      station.camera = CameraToMsg(sim.camera().params(), camera.utime);
-      truths.WriteUpTo(station.utime);
-      writer.WriteMessage(channels::kStation, station.utime, station);
+      const auto cloud = CloudToMsg(ToCloud(lidar.scan), lidar.utime);
+      std::vector<station_t> messages;  // one per camera, each with the same cloud
+      for (int i = 0; i < cameras; ++i) {
+        const auto camera =
+            sim.RenderCameraFrame(i, NearestFrame(sim.camera_times(i), t0, s.still_from_utime, s.still_to_utime));
+        station_t station{};
+        station.utime = std::max(camera.utime, lidar.utime);
+        station.id = s.id;
+        station.still_from_utime = s.still_from_utime;
+        station.still_to_utime = s.still_to_utime;
+        station.image = MatToImage(camera.image, encoding, camera.utime);
+        station.cloud = cloud;
+        station.camera = CameraInfo(sim, i, camera.utime);
+        messages.push_back(std::move(station));
+      }
+      std::vector<int> order(cameras);  // by utime, cameras by index on equal utime
+      std::iota(order.begin(), order.end(), 0);
+      std::stable_sort(order.begin(), order.end(),
+                       [&messages](int a, int b) { return messages[a].utime < messages[b].utime; });
+      for (int i : order) {
+        truths.WriteUpTo(messages[i].utime);
+        writer.WriteMessage(ForCamera(channels::kStation, sim.camera_name(i)), messages[i].utime, messages[i]);
+      }
       progress(++written, static_cast<int>(stations.size()));
     }
   } else {
@@ -123,7 +159,8 @@ void Simulate(const std::string& scenario_path, const std::string& out, std::opt
     while (sim.Next(&event)) {
       truths.WriteUpTo(event.utime);
       if (event.type == sim::Event::Type::kCamera)
-        writer.WriteMessage(channels::kCameraImage, event.utime, MatToImage(event.camera.image, encoding, event.utime));
+        writer.WriteMessage(ForCamera(channels::kCameraImage, sim.camera_name(event.camera.camera)), event.utime,
+                            MatToImage(event.camera.image, encoding, event.utime));
       else
         writer.WriteMessage(channels::kLidarScan, event.utime, CloudToMsg(ToCloud(event.lidar.scan), event.utime));
       progress(++written, static_cast<int>(sim.num_events()));
@@ -135,7 +172,8 @@ void Simulate(const std::string& scenario_path, const std::string& out, std::opt
   std::filesystem::rename(partial, out);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "wrote " << out << ": " << (stations_only ? "stations " : "frames ") << written << ", "
-            << sim.Stations().size() << " still intervals, " << seconds << " s\n";
+            << sim.Stations().size() << " still intervals, "
+            << (cameras > 1 ? std::to_string(cameras) + " cameras, " : std::string()) << seconds << " s\n";
 }
 
 }  // namespace
