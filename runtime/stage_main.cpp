@@ -32,6 +32,31 @@ ConfigReader StageSection(const std::string& config_path, const std::string& nam
   return root.Child(name);
 }
 
+Rig StageRig(const std::string& config_path, const std::string& camera, bool per_camera) {
+  Rig rig;
+  if (!config_path.empty()) {
+    ConfigReader root = ConfigReader::FromFile(config_path);
+    rig.cameras = ReadRigCameras(root);
+  }
+  std::string names;
+  for (const auto& name : rig.cameras) names += (names.empty() ? "" : ", ") + name;
+  if (!camera.empty() && !per_camera)
+    throw ConfigError("--camera " + camera + ": this stage serves the whole rig (leave --camera out)");
+  if (!camera.empty() && !rig.Has(camera))
+    throw ConfigError(
+        "--camera " + camera + ": the rig of " + (config_path.empty() ? "the defaults" : config_path) +
+        (rig.named() ? " has the cameras " + names : " has one camera without a name (leave --camera out)"));
+  if (per_camera && camera.empty() && rig.named())
+    throw ConfigError("the rig of " + config_path + " has the cameras " + names +
+                      ": say which this process serves with --camera NAME");
+  rig.camera = camera;
+  return rig;
+}
+
+std::string StageStatusName(const std::string& stage, const std::string& camera) {
+  return camera.empty() ? stage : stage + "/" + camera;
+}
+
 void PublishStatus(Bus& bus, const std::string& name, const StageStatus& status, const std::string& last_error) {
   status_t msg{};
   msg.utime = NowUtime();
@@ -57,6 +82,9 @@ int StageMain(int argc, char** argv, const StageDefinition& stage) {
   std::string bus_url;
   app.add_option("--config", config_path, "YAML config of this stage");
   app.add_option("--bus", bus_url, "bus URL (default: $LCM_DEFAULT_URL or loopback multicast)");
+  std::string camera;
+  if (stage.per_camera)
+    app.add_option("--camera", camera, "the camera this process serves, on a rig of several (the config's cameras)");
   app.set_version_flag("--version", std::string(kFusecalVersion));
   try {
     app.parse(argc, argv);
@@ -64,11 +92,12 @@ int StageMain(int argc, char** argv, const StageDefinition& stage) {
     return app.exit(e);
   }
 
+  const std::string status_name = StageStatusName(stage.name, camera);
   std::unique_ptr<StageNode> node;
   try {
-    node = stage.make_node(config_path);
+    node = stage.make_node(config_path, camera);
   } catch (const std::exception& e) {
-    std::cerr << "fusecal-" << stage.name << ": " << e.what() << "\n";
+    std::cerr << "fusecal-" << status_name << ": " << e.what() << "\n";
     return 2;
   }
   std::unique_ptr<Bus> bus;
@@ -76,7 +105,7 @@ int StageMain(int argc, char** argv, const StageDefinition& stage) {
     bus = MakeBus(bus_url);
     node->Start(*bus);
   } catch (const std::exception& e) {
-    std::cerr << "fusecal-" << stage.name << ": " << e.what() << "\n";
+    std::cerr << "fusecal-" << status_name << ": " << e.what() << "\n";
     return 1;
   }
 
@@ -84,7 +113,7 @@ int StageMain(int argc, char** argv, const StageDefinition& stage) {
   std::signal(SIGTERM, OnStopSignal);
   std::string last_error;
   int64_t next_heartbeat = 0;
-  std::cerr << "fusecal-" << stage.name << ": running on " << bus->url() << "\n";
+  std::cerr << "fusecal-" << status_name << ": running on " << bus->url() << "\n";
   while (!g_stop_requested) {
     try {
       bus->Handle(node->TickPeriodMs());
@@ -92,14 +121,14 @@ int StageMain(int argc, char** argv, const StageDefinition& stage) {
     } catch (const std::exception& e) {
       if (g_stop_requested) break;  // a signal interrupted the wait: not an error
       last_error = e.what();
-      std::cerr << "fusecal-" << stage.name << ": error: " << last_error << " (still running)\n";
+      std::cerr << "fusecal-" << status_name << ": error: " << last_error << " (still running)\n";
     }
     const int64_t now = NowUtime();
     if (now >= next_heartbeat) {
       try {
-        PublishStatus(*bus, stage.name, node->Status(), last_error);
+        PublishStatus(*bus, status_name, node->Status(), last_error);
       } catch (const std::exception& e) {
-        std::cerr << "fusecal-" << stage.name << ": heartbeat failed: " << e.what() << "\n";
+        std::cerr << "fusecal-" << status_name << ": heartbeat failed: " << e.what() << "\n";
       }
       next_heartbeat = now + 1000000;
     }
@@ -107,10 +136,10 @@ int StageMain(int argc, char** argv, const StageDefinition& stage) {
   StageStatus final_status = node->Status();
   final_status.state = "stopped";
   try {
-    PublishStatus(*bus, stage.name, final_status, last_error);
+    PublishStatus(*bus, status_name, final_status, last_error);
   } catch (const std::exception&) {
   }
-  std::cerr << "fusecal-" << stage.name << ": stopped\n";
+  std::cerr << "fusecal-" << status_name << ": stopped\n";
   return 0;
 }
 

@@ -1,4 +1,4 @@
-// The common `main` of a stage process: flags (--config, --bus, --help, --version), clean exit on
+// The common `main` of a stage process: flags (--config, --bus, --camera, --help, --version), clean exit on
 // SIGINT/SIGTERM, a STATUS heartbeat at 1 Hz, and a loop that dispatches messages. A handler that throws
 // is reported (stderr and STATUS.last_error) and the process keeps running: nothing computed is lost.
 #pragma once
@@ -11,6 +11,7 @@
 #include "runtime/bus.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/config_reader.hpp"
+#include "runtime/rig.hpp"
 
 namespace fusecal {
 
@@ -38,15 +39,23 @@ struct StageDefinition {
   std::string name;            // e.g. "handeye"; STATUS is published with this name
   std::string description;     // one line for --help
   std::string default_config;  // path used when --config is not given; may be empty
-  // Builds the node from a config file path (empty: defaults). Throws ConfigError on bad config.
-  std::function<std::unique_ptr<StageNode>(const std::string& config_path)> make_node;
+  bool per_camera = false;     // one process per camera of the rig (`--camera NAME`)
+  // Builds the node from a config file path (empty: defaults) and, for a per-camera stage, its camera
+  // (`--camera`). Throws ConfigError on bad config.
+  std::function<std::unique_ptr<StageNode>(const std::string& config_path, const std::string& camera)> make_node;
 };
-
-// Channel of the heartbeat.
 
 // The section `name` of the pipeline config file (an empty section when absent). Only that section is
 // checked here; `fusecal run` and `fusecal calibrate` check the whole file.
 ConfigReader StageSection(const std::string& config_path, const std::string& name);
+
+// The rig of the pipeline config file (its `cameras`) with `camera` as this process's camera. Throws
+// ConfigError when a per-camera stage is not told which of several cameras it serves, or `camera` is not
+// one of the rig's (or is given to a stage that serves the whole rig).
+Rig StageRig(const std::string& config_path, const std::string& camera, bool per_camera);
+
+// The name a stage's STATUS carries: `stage`, or `stage/camera` for a per-camera stage of a named camera.
+std::string StageStatusName(const std::string& stage, const std::string& camera);
 
 // Runs a stage until SIGINT/SIGTERM. Returns the process exit status (0 on a clean stop, 2 on bad
 // flags or config, 1 when the bus cannot start).
@@ -62,9 +71,12 @@ int RunStage(int argc, char** argv, const std::string& name, const std::string& 
   StageDefinition stage;
   stage.name = name;
   stage.description = description;
-  stage.make_node = [read_settings, name](const std::string& config_path) -> std::unique_ptr<StageNode> {
+  stage.per_camera = IsPerCameraStage<Settings>::value;
+  stage.make_node = [read_settings, name](const std::string& config_path,
+                                          const std::string& camera) -> std::unique_ptr<StageNode> {
     Settings settings;
     if (!config_path.empty()) settings = read_settings(StageSection(config_path, name));
+    ApplyRig(StageRig(config_path, camera, IsPerCameraStage<Settings>::value), &settings);
     return std::make_unique<Node>(settings);
   };
   return StageMain(argc, argv, stage);

@@ -20,9 +20,9 @@ void RecordStageWork(const std::vector<NamedNode>& nodes, CalibrateReport* repor
 // the next event of the log (deterministic).
 class InProcessPipeline {
  public:
-  InProcessPipeline(Bus& bus, std::vector<NamedNode>& nodes, const SessionRecord& session,
+  InProcessPipeline(Bus& bus, std::vector<NamedNode>& nodes, const std::vector<const SessionRecord*>& sessions,
                     const std::function<void(const std::string&)>& progress)
-      : bus_(bus), nodes_(nodes), session_(session), progress_(progress) {}
+      : bus_(bus), nodes_(nodes), sessions_(sessions), progress_(progress) {}
 
   // Until nothing moves: every message handled, every node's queued work done.
   void Drain() {
@@ -32,10 +32,15 @@ class InProcessPipeline {
       if (TickAll()) continue;
       if (HandleOnce() == 0) break;
     }
-    if (progress_ && (session_.stations().size() != stations_seen_ || session_.extrinsics().size() != versions_seen_)) {
-      stations_seen_ = session_.stations().size();
-      versions_seen_ = session_.extrinsics().size();
-      progress_(ProgressText(session_));
+    size_t stations = 0, versions = 0;
+    for (const SessionRecord* session : sessions_) {
+      stations += session->stations().size();
+      versions += session->extrinsics().size();
+    }
+    if (progress_ && (stations != stations_seen_ || versions != versions_seen_)) {
+      stations_seen_ = stations;
+      versions_seen_ = versions;
+      progress_(RigProgressText(sessions_));
     }
   }
 
@@ -69,7 +74,7 @@ class InProcessPipeline {
 
   Bus& bus_;
   std::vector<NamedNode>& nodes_;
-  const SessionRecord& session_;
+  const std::vector<const SessionRecord*>& sessions_;
   const std::function<void(const std::string&)>& progress_;
   size_t stations_seen_ = 0, versions_seen_ = 0;
 };
@@ -84,12 +89,28 @@ CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out
       config.stations_from == "detector" || (config.stations_from == "auto" && !LogHasStations(log_path));
   auto bus = MakeBus("memq://");
   PipelineConfig in_process = config;
-  in_process.handeye.retry_s = 0;                          // memq loses nothing; retries would only make runs differ
-  in_process.fusion_odometry.input_wait_s = 0;             // memq keeps the order: what is missing never comes
-  SessionRecord session(*bus, out_dir, RecordSettings{});  // the stations: the input log has the raw frames
+  in_process.handeye.calibrator.retry_s = 0;    // memq loses nothing; retries would only make runs differ
+  in_process.fusion_odometry.input_wait_s = 0;  // memq keeps the order: what is missing never comes
+  if (const std::vector<std::string> named = CamerasInLog(log_path);
+      !named.empty() && config.cameras == std::vector<std::string>{""}) {
+    SetRigCameras(&in_process, named);
+    std::string names;
+    for (const auto& name : named) names += (names.empty() ? "" : ", ") + name;
+    if (progress)
+      progress("the log's cameras: " + names + " (each calibrated; " + named.front() + " decides the stations)");
+  }
+  // One record per camera; the first writes the session log (the stations: the input log has the raw frames).
+  std::vector<std::unique_ptr<SessionRecord>> records;
+  std::vector<const SessionRecord*> sessions;
+  for (const std::string& camera : in_process.cameras) {
+    records.push_back(std::make_unique<SessionRecord>(
+        *bus, out_dir, records.empty() ? RecordSettings{} : RecordSettings{"none"}, camera));
+    sessions.push_back(records.back().get());
+  }
+  const SessionRecord& session = *records.front();
   std::vector<NamedNode> nodes = MakeStageNodes(in_process, use_detector);
   for (auto& n : nodes) n.node->Start(*bus);
-  InProcessPipeline pipeline(*bus, nodes, session, progress);
+  InProcessPipeline pipeline(*bus, nodes, sessions, progress);
 
   LogReader reader(log_path);
   int64_t first_utime = -1, last_utime = -1;
@@ -109,11 +130,16 @@ CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out
 
   CalibrateReport report;
   RecordStageWork(nodes, &report);
-  session.Close();
+  for (auto& record : records) record->Close();
   report.stations = static_cast<int>(session.stations().size());
   report.span_s = first_utime < 0 ? 0.0 : (last_utime - first_utime) * 1e-6;
   const auto outputs_start = std::chrono::steady_clock::now();
-  report.outputs = WriteCalibrationOutputs(session, out_dir);
+  if (in_process.cameras.front().empty()) {
+    report.outputs = WriteCalibrationOutputs(session, out_dir);
+  } else {
+    report.rig = WriteRigOutputs(sessions, out_dir);
+    report.outputs = report.rig->cameras.front().outputs;
+  }
   AddOutputFile(&report.outputs, [&] { return WriteStageTable(out_dir, report.stage_counters, report.span_s); });
   report.outputs_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - outputs_start).count();
   report.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -297,4 +297,76 @@ bool FinalConverged(const CalibrationOutputs& outputs) {
   return outputs.final_result.status == Name(HandEyeStatus::kConverged) && outputs.result_file_written;
 }
 
+RigOutputs WriteRigOutputs(const std::vector<const SessionRecord*>& sessions, const std::string& out_dir) {
+  RigOutputs rig;
+  std::vector<RigCameraResult> results;
+  for (const SessionRecord* session : sessions) {
+    const std::string dir = out_dir + "/" + session->camera();
+    std::filesystem::create_directories(dir);
+    CameraOutputs camera{session->camera(), WriteCalibrationOutputs(*session, dir)};
+    if (camera.outputs.has_result) {
+      RigCameraResult r;
+      r.camera = camera.camera;
+      r.T_camera_lidar = camera.outputs.final_result.T_camera_lidar;
+      r.covariance = camera.outputs.final_result.covariance;
+      r.status = camera.outputs.final_result.status;
+      r.file = camera.camera + "/extrinsic.yaml";
+      results.push_back(r);
+    } else {
+      rig.warnings.push_back("camera " + camera.camera + ": no result, so the rig's extrinsic.yaml leaves it out");
+    }
+    rig.cameras.push_back(std::move(camera));
+  }
+  if (results.empty()) return rig;
+  rig.rig = MakeRigResult(std::move(results));
+  const std::string path = out_dir + "/extrinsic.yaml";
+  try {
+    WriteRigFile(path, *rig.rig);
+    rig.rig_file = path;
+  } catch (const std::exception& e) {
+    rig.warnings.push_back(e.what());
+  }
+  return rig;
+}
+
+std::string RigSummaryText(const RigOutputs& o, const std::string& out_dir) {
+  std::ostringstream s;
+  for (const auto& c : o.cameras)
+    s << "camera " << c.camera << ": " << SummaryText(c.outputs, out_dir + "/" + c.camera);
+  if (o.rig) {
+    s << std::fixed << std::setprecision(4);
+    for (const auto& c : o.rig->camera_to_camera) {
+      const Eigen::Vector3d t = c.T.translation();
+      s << "T_" << c.to << "_" << c.from << ": t = [" << t.x() << ", " << t.y() << ", " << t.z() << "] m, angle "
+        << RotationAngle(c.T.linear()) * 180.0 / M_PI << " deg";
+      if (c.covariance)
+        s << ", std dev rotation " << RotationStdDevDeg(*c.covariance).maxCoeff() << " deg, translation "
+          << TranslationStdDevM(*c.covariance).maxCoeff() << " m (largest)";
+      s << "\n";
+    }
+  }
+  for (const auto& w : o.warnings) s << "warning: " << w << "\n";
+  if (o.rig_file) s << "rig: " << *o.rig_file << " (every T_<camera>_lidar, camera to camera)\n";
+  return s.str();
+}
+
+bool AllConverged(const RigOutputs& o) {
+  if (o.cameras.empty() || !o.rig_file) return false;
+  for (const auto& c : o.cameras)
+    if (!FinalConverged(c.outputs)) return false;
+  return true;
+}
+
+std::string RigProgressText(const std::vector<const SessionRecord*>& sessions) {
+  std::string text = ProgressText(*sessions.front());
+  if (sessions.size() == 1) return text;
+  text = sessions.front()->camera() + ": " + text;
+  for (size_t k = 1; k < sessions.size(); ++k) {
+    const extrinsic_t* e = sessions[k]->Final();
+    text += " | " + sessions[k]->camera() + ": " +
+            (e ? "v" + std::to_string(e->version) + " " + ExtrinsicStatusName(e->status) : std::string("no estimate"));
+  }
+  return text;
+}
+
 }  // namespace fusecal

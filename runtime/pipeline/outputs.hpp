@@ -13,6 +13,7 @@
 
 #include "runtime/pipeline/session.hpp"
 #include "stages/formats/result_file.hpp"
+#include "stages/formats/rig_file.hpp"
 #include "stages/foundation/extrinsic_error.hpp"
 
 namespace fusecal {
@@ -43,5 +44,24 @@ std::string SummaryText(const CalibrationOutputs& outputs, const std::string& ou
 // Whether the final result has converged and its result file was written (`run` and `calibrate` exit
 // with 0 then).
 bool FinalConverged(const CalibrationOutputs& outputs);
+
+// A rig of several cameras: each camera's outputs in <out_dir>/<camera>/, and the rig's extrinsic.yaml
+// (stages/formats/rig_file.hpp) in out_dir.
+struct CameraOutputs {
+  std::string camera;
+  CalibrationOutputs outputs;
+};
+struct RigOutputs {
+  std::vector<CameraOutputs> cameras;
+  std::optional<RigResult> rig;  // when every camera has a result
+  std::optional<std::string> rig_file;
+  std::vector<std::string> warnings;
+};
+RigOutputs WriteRigOutputs(const std::vector<const SessionRecord*>& sessions, const std::string& out_dir);
+std::string RigSummaryText(const RigOutputs& outputs, const std::string& out_dir);
+bool AllConverged(const RigOutputs& outputs);
+
+// One progress line for the rig: ProgressText of the first camera, and each other camera's version and verdict.
+std::string RigProgressText(const std::vector<const SessionRecord*>& sessions);
 
 }  // namespace fusecal

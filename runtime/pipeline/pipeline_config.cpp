@@ -23,10 +23,12 @@ PipelineConfig LoadPipelineConfig(const std::string& path) {
   bus.Get("shm_chunks", &c.shm_chunks, Positive<int>());
   bus.Finish();
   root.Get("stations_from", &c.stations_from, OneOf({"auto", "detector", "log"}));
+  c.cameras = ReadRigCameras(root);
   // One section per stage of the registry, read by the stage's own reader.
 #define FUSECAL_STAGE(name, header, Settings, read, Node, in, out) c.name = read(root.Child(#name));
 #include "stages/stages.def"
 #undef FUSECAL_STAGE
+  SetRigCameras(&c, c.cameras);
   ConfigReader run = root.Child("run");
   run.Get("idle_timeout_s", &c.idle_timeout_s, Positive<double>());
   run.Get("record", &c.record.what, OneOf({"all", "stations", "none"}));
@@ -36,6 +38,15 @@ PipelineConfig LoadPipelineConfig(const std::string& path) {
   if (c.lidar_icp.previous_stations != c.camera_frontend.previous_stations)
     root.Fail("camera_frontend.previous_stations", "must equal lidar_icp.previous_stations (the same pairs)");
   return c;
+}
+
+void SetRigCameras(PipelineConfig* c, const std::vector<std::string>& cameras) {
+  c->cameras = cameras;
+  Rig rig;
+  rig.cameras = cameras;
+#define FUSECAL_STAGE(name, header, Settings, read, Node, in, out) ApplyRig(rig, &c->name);
+#include "stages/stages.def"
+#undef FUSECAL_STAGE
 }
 
 std::string DefaultPipelineConfigPath() { return std::string(FUSECAL_SOURCE_DIR) + "/configs/pipeline.yaml"; }

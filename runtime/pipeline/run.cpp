@@ -6,12 +6,15 @@
 #include <set>
 #include <thread>
 
+#include <yaml-cpp/yaml.h>
 #include "fusecal/motion_t.hpp"
 #include "fusecal/station_t.hpp"
 #include "fusecal/status_t.hpp"
+
 #include "runtime/bus_url.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/lcm_log.hpp"
+#include "runtime/output_file.hpp"
 #include "runtime/pipeline/session.hpp"
 #include "runtime/pipeline/stage_registry.hpp"
 #include "runtime/shm_transport.hpp"
@@ -36,18 +39,24 @@ struct PipelineWatch {
   std::set<std::string> alive;                        // stage names that sent STATUS
   std::map<std::string, int> pids;                    // stage name -> pid of its latest STATUS
   bool player_done = false;                           // a player (another host's run) has said "done"
+  static std::string CameraKey(const std::string& camera) { return camera.empty() ? "camera" : "camera/" + camera; }
   std::string player_host;
   std::vector<Subscription> subs;
 
-  explicit PipelineWatch(Bus& bus) {
+  // The motions of each camera are keyed by its name ("camera/front"); the unnamed camera's by "camera".
+  PipelineWatch(Bus& bus, const std::vector<std::string>& cameras) {
     // A message that does not decode is skipped here; the session record keeps it as it came.
     const auto on_error = [](const std::string&) {};
-    const auto on_motion = [this](const motion_t& m) {
-      motions_for.insert({m.sensor, m.station_j});
+    const auto on_motion = [this](const std::string& key, const motion_t& m) {
+      motions_for.insert({key, m.station_j});
       if (!m.valid) failed_for.insert(m.station_j);
     };
-    subs.push_back(bus.Subscribe(channels::kLidarMotion, on_motion, on_error));
-    subs.push_back(bus.Subscribe(channels::kCameraMotion, on_motion, on_error));
+    subs.push_back(bus.Subscribe(
+        channels::kLidarMotion, [=](const motion_t& m) { on_motion("lidar", m); }, on_error));
+    for (const auto& camera : cameras)
+      subs.push_back(bus.Subscribe(
+          ForCamera(channels::kCameraMotion, camera), [=](const motion_t& m) { on_motion(CameraKey(camera), m); },
+          on_error));
     subs.push_back(bus.Subscribe(
         channels::kStatus,
         [this](const status_t& s) {
@@ -86,6 +95,23 @@ std::string RunBusUrl(const PipelineConfig& config, const RunOptions& options) {
   return CheckedBusUrl(options.bus_url.empty() ? config.bus_url : options.bus_url);
 }
 
+// A copy of the config at `path` with the rig's cameras, written to `out`; returns `out`.
+std::string WriteConfigWithCameras(const std::string& path, const std::vector<std::string>& cameras,
+                                   const std::string& out) {
+  YAML::Node root = YAML::LoadFile(path);
+  YAML::Node list(YAML::NodeType::Sequence);
+  for (const auto& camera : cameras) {
+    YAML::Node entry;
+    entry["name"] = camera;
+    list.push_back(entry);
+  }
+  root["cameras"] = list;
+  YAML::Emitter emitter;
+  emitter << root;
+  WriteFileChecked(out, std::string(emitter.c_str()) + "\n");
+  return out;
+}
+
 class PipelineRun {
  public:
   PipelineRun(const PipelineConfig& config, const RunOptions& options, const std::atomic<bool>& stop,
@@ -105,10 +131,13 @@ class PipelineRun {
         // (shm_transport.hpp).
         transport_(url_, config.max_message_bytes, config.shm_chunks, options.out_dir, event),
         bus_(MakeBus(transport_.coordinator_url())),
-        session_(*bus_, options.out_dir, config.record),
-        watch_(*bus_),
-        split_(SplitStages(PipelineStageNames(use_detector_, config.ros2_tf.enabled || options.ros2, options.ros2),
-                           options.stages)),
+        records_(MakeRecords(*bus_, options.out_dir, config.record, config.cameras)),
+        session_(*records_.front()),
+        sessions_(Pointers(records_)),
+        watch_(*bus_, config.cameras),
+        split_(SplitStages(
+            PipelineStageNames(use_detector_, config.ros2_tf.enabled || options.ros2, options.ros2, config.cameras),
+            options.stages)),
         supervisor_(options.out_dir) {}
 
   RunReport Run() {
@@ -136,6 +165,22 @@ class PipelineRun {
     return report;
   }
 
+  // One session record per camera; the first writes the session log.
+  static std::vector<std::unique_ptr<SessionRecord>> MakeRecords(Bus& bus, const std::string& dir,
+                                                                 const RecordSettings& record,
+                                                                 const std::vector<std::string>& cameras) {
+    std::vector<std::unique_ptr<SessionRecord>> records;
+    for (const auto& camera : cameras)
+      records.push_back(
+          std::make_unique<SessionRecord>(bus, dir, records.empty() ? record : RecordSettings{"none"}, camera));
+    return records;
+  }
+  static std::vector<const SessionRecord*> Pointers(const std::vector<std::unique_ptr<SessionRecord>>& records) {
+    std::vector<const SessionRecord*> pointers;
+    for (const auto& r : records) pointers.push_back(r.get());
+    return pointers;
+  }
+
   static double Seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
 
  private:
@@ -143,11 +188,16 @@ class PipelineRun {
     names_ = split_.here;  // ros2_tf, when enabled: the extrinsic on ROS 2's rt/tf_static
     for (const auto& name : split_.not_needed)
       event_(name + " is not started: " +
-             (name == "stationarity" ? "the stations come from the log" : "ros2_tf.enabled is false in the config"));
-    for (const auto& name : names_)
-      supervisor_.Add({name,
-                       ExecutableDir() + "/" + FindStage(name)->Executable(),
-                       {"--config", config_.path, "--bus", transport_.stage_url()}});
+             (name == "stationarity"                 ? std::string("the stations come from the log")
+              : name == "ros2_tf"                    ? std::string("ros2_tf.enabled is false in the config")
+              : !StageAndCamera(name).second.empty() ? "the rig has no camera " + StageAndCamera(name).second
+                                                     : std::string("not part of this pipeline")));
+    for (const auto& name : names_) {
+      const auto [stage, camera] = StageAndCamera(name);
+      std::vector<std::string> args{"--config", config_.path, "--bus", transport_.stage_url()};
+      if (!camera.empty()) args.insert(args.end(), {"--camera", camera});
+      supervisor_.Add({name, ExecutableDir() + "/" + FindStage(stage)->Executable(), args});
+    }
     // iox://: the coordinator's bus and the stages' are joined by a bridge process, supervised like a stage
     // (it sends no heartbeat and is never given the stations).
     if (transport_.needs_bridge()) {
@@ -238,7 +288,7 @@ class PipelineRun {
       RestartWhatDied();
       ResupplyRestartedStages();
       if (player_ && Clock::now() - last_player_status_ > std::chrono::seconds(1)) PublishPlayerStatus("playing");
-      const std::string line = ProgressText(session_);
+      const std::string line = RigProgressText(sessions_);
       if (line != last_progress_) progress_(last_progress_ = line);
     }
     return done ? done() : true;
@@ -280,9 +330,12 @@ class PipelineRun {
     if (waiting && now - first_ready_ < kResupplyWait) return;
     first_ready_ = {};
     for (const auto* p : ready) resupplied_[p->name] = p->pid;
-    const auto& camera_info = session_.camera_info_bytes();  // stationarity needs it for every station
-    if (!camera_info.empty()) bus_->PublishRaw(channels::kCameraInfo.name, camera_info.data(), camera_info.size());
-    for (const auto& [id, station] : session_.kept_stations()) bus_->Publish(channels::kStation, station);
+    // Stationarity needs every camera's for every station.
+    for (const auto& [channel, camera_info] : session_.camera_infos())
+      bus_->PublishRaw(channel, camera_info.data(), camera_info.size());
+    for (const SessionRecord* session : sessions_)
+      for (const auto& [id, station] : session->kept_stations())
+        bus_->Publish(ForCamera(channels::kStation, session->camera()), station);
   }
 
   // A restarted stage that has not been given the stations again yet: the player holds new messages back
@@ -301,11 +354,15 @@ class PipelineRun {
   std::function<bool()> SettledAfter(int station_id, bool first) {
     return [this, station_id, first] {
       if (first) return true;
-      if (!watch_.motions_for.count({"lidar", station_id}) || !watch_.motions_for.count({"camera", station_id}))
-        return false;
+      if (!watch_.motions_for.count({"lidar", station_id})) return false;
+      for (const SessionRecord* session : sessions_)
+        if (!watch_.motions_for.count({PipelineWatch::CameraKey(session->camera()), station_id})) return false;
       if (watch_.failed_for.count(station_id)) return true;  // no round starts for a failed motion
-      const extrinsic_t* e = session_.Final();
-      return e && !RoundRunning(*e) && session_.MotionToWasTaken(station_id);
+      for (const SessionRecord* session : sessions_) {
+        const extrinsic_t* e = session->Final();
+        if (!e || RoundRunning(*e) || !session->MotionToWasTaken(station_id)) return false;
+      }
+      return true;
     };
   }
 
@@ -335,13 +392,20 @@ class PipelineRun {
       if (ResupplyPending()) Pump(config_.idle_timeout_s, [&] { return !ResupplyPending(); });
       const size_t stations_before = session_.stations().size();
       bus_->PublishRaw(ch, ev->data.data(), ev->data.size());
-      if (ch == channels::kStation.name) ++stations_played_;
-      if (options_.live) continue;  // sensors do not wait
-      if (ch == channels::kStation.name) {
+      // A station of the log is played when every camera's copy of it is.
+      int complete_station = -1;
+      if (PipelineChannelOf(ch) == channels::kStation.name) {
         station_t s{};
         s.decode(ev->data.data(), 0, static_cast<int>(ev->data.size()));
-        WaitForStation(s.id);
-      } else {
+        if (++station_copies_[s.id] == static_cast<int>(config_.cameras.size())) {
+          complete_station = s.id;
+          ++stations_played_;
+        }
+      }
+      if (options_.live) continue;  // sensors do not wait
+      if (complete_station >= 0) {
+        WaitForStation(complete_station);
+      } else if (PipelineChannelOf(ch) != channels::kStation.name) {
         // Raw frames as fast as possible still leave the detector ~20 ms each (it needs ~15 ms).
         Pump(options_.speed > 0 ? 0.001 : 0.02, nullptr);
         if (session_.stations().size() > stations_before) WaitForStation(session_.stations().rbegin()->first);
@@ -351,10 +415,13 @@ class PipelineRun {
     report_.replay_seconds = Seconds(replay_start_);
     const auto after_log = Clock::now();
     if (options_.live) WaitForEveryStation();
-    // Let the last round finish.
+    // Let the last round of every camera finish.
     Pump(config_.idle_timeout_s, [&] {
-      const extrinsic_t* e = session_.Final();
-      return !e || !RoundRunning(*e);
+      for (const SessionRecord* session : sessions_) {
+        const extrinsic_t* e = session->Final();
+        if (e && RoundRunning(*e)) return false;
+      }
+      return true;
     });
     report_.after_log_seconds = Seconds(after_log);
   }
@@ -396,8 +463,13 @@ class PipelineRun {
     for (const auto& [name, counters] : report_.stage_counters)
       report_.bus_dropped += StageCounter(counters, "bus_dropped");
     if (player_) report_.span_s = first_utime_ < 0 ? 0.0 : (last_utime_ - first_utime_) * 1e-6;
-    session_.Close();
-    report_.outputs = WriteCalibrationOutputs(session_, options_.out_dir);
+    for (auto& record : records_) record->Close();
+    if (config_.cameras.front().empty()) {
+      report_.outputs = WriteCalibrationOutputs(session_, options_.out_dir);
+    } else {
+      report_.rig = WriteRigOutputs(sessions_, options_.out_dir);
+      report_.outputs = report_.rig->cameras.front().outputs;
+    }
     AddOutputFile(&report_.outputs,
                   [&] { return WriteStageTable(options_.out_dir, report_.stage_counters, report_.span_s); });
     if (options_.live && first_utime_ >= 0) {
@@ -420,7 +492,9 @@ class PipelineRun {
   const bool use_detector_;
   SharedMemoryTransport transport_;
   std::unique_ptr<Bus> bus_;
-  SessionRecord session_;
+  std::vector<std::unique_ptr<SessionRecord>> records_;  // one per camera
+  SessionRecord& session_;                               // the first camera's: the rig's stations, STATUS
+  const std::vector<const SessionRecord*> sessions_;
   PipelineWatch watch_;
   const StageSplit split_;
   Supervisor supervisor_;
@@ -431,8 +505,9 @@ class PipelineRun {
   static constexpr std::chrono::seconds kResupplyWait{5};
   std::string last_progress_;
   int stations_published_ = 0;
-  size_t stations_played_ = 0;  // STATION events of the log published (stations from the log)
-  int written_version_ = -1;    // ros2: the last converged version written to extrinsic.yaml
+  size_t stations_played_ = 0;         // stations of the log published, every camera's (stations from the log)
+  std::map<int, int> station_copies_;  // station id -> cameras whose STATION of it was published
+  int written_version_ = -1;           // ros2: the last converged version written to extrinsic.yaml
   Clock::time_point replay_start_, last_player_status_;
   int64_t replay_start_wall_utime_ = 0;
   int64_t first_utime_ = -1, last_utime_ = -1;  // of the events played
@@ -445,7 +520,17 @@ RunReport RunPipeline(const PipelineConfig& config, const RunOptions& options, c
                       const std::function<void(const std::string&)>& event) {
   const auto start = Clock::now();
   std::filesystem::create_directories(options.out_dir);
-  PipelineRun run(config, options, stop, progress, event);
+  PipelineConfig effective = config;
+  if (!options.log_path.empty() && config.cameras.front().empty()) {
+    // The stage processes read their rig from the config file: the log's cameras go into a copy of it.
+    if (const std::vector<std::string> named = CamerasInLog(options.log_path); !named.empty()) {
+      effective.path = WriteConfigWithCameras(config.path, named, options.out_dir + "/pipeline.yaml");
+      SetRigCameras(&effective, named);
+      event("the log's cameras: " + JoinNames(named) + " (each calibrated; " + named.front() +
+            " decides the stations; their config: " + effective.path + ", which stages on other hosts need too)");
+    }
+  }
+  PipelineRun run(effective, options, stop, progress, event);
   RunReport report = run.Run();
   report.total_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return report;

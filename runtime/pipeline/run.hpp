@@ -19,6 +19,7 @@
 
 #include <atomic>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,7 +45,8 @@ struct RunOptions {
 };
 
 struct RunReport {
-  CalibrationOutputs outputs;
+  CalibrationOutputs outputs;     // the one camera's; on a rig of several, the first camera's
+  std::optional<RigOutputs> rig;  // a rig of several cameras: each camera's and the rig file
   int restarts = 0;
   int roudi_restarts = 0;          // shared memory only: times RouDi was started again
   bool bus_counts_losses = false;  // dds:// and iox:// count what they lose (sequence gaps, full queues)

@@ -2,6 +2,7 @@
 
 #include "runtime/pipeline/outputs.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -22,21 +23,24 @@ static bool Decode(const RawMessage& raw, M* message) {
   return message->decode(raw.data, 0, static_cast<int>(raw.size)) >= 0;
 }
 
-SessionRecord::SessionRecord(Bus& bus, const std::string& dir, const RecordSettings& record) {
+SessionRecord::SessionRecord(Bus& bus, const std::string& dir, const RecordSettings& record, const std::string& camera)
+    : camera_(camera) {
   if (record.what != "none") log_ = std::make_unique<SessionLog>(dir, record);
-  subscriptions_.push_back(bus.SubscribeRaw(".*", [this](const RawMessage& raw) {
+  const std::string station = ForCamera(channels::kStation, camera).name;
+  const std::string extrinsic = ForCamera(channels::kExtrinsic, camera).name;
+  const std::string camera_motion = ForCamera(channels::kCameraMotion, camera).name;
+  subscriptions_.push_back(bus.SubscribeRaw(".*", [=](const RawMessage& raw) {
     const std::string& ch = raw.channel;
-    if (log_) log_->Write(ch, raw.receive_utime, raw.data, raw.size, camera_info_bytes_);
-    if (ch == channels::kStation.name) {
+    if (PipelineChannelOf(ch) == channels::kCameraInfo.name) camera_infos_[ch].assign(raw.data, raw.data + raw.size);
+    if (log_) log_->Write(ch, raw.receive_utime, raw.data, raw.size, camera_infos_);
+    if (ch == station) {
       OnStation(raw);
-    } else if (ch == channels::kExtrinsic.name) {
+    } else if (ch == extrinsic) {
       OnExtrinsic(raw);
-    } else if (ch == channels::kCameraInfo.name) {
-      camera_info_bytes_.assign(raw.data, raw.data + raw.size);
     } else if (ch == channels::kGroundTruth.name) {
       ground_truth_t g{};
-      if (Decode(raw, &g)) ground_truth_ = g;
-    } else if (ch == channels::kLidarMotion.name || ch == channels::kCameraMotion.name) {
+      if (Decode(raw, &g) && g.camera.name == camera_) ground_truth_ = g;
+    } else if (ch == channels::kLidarMotion.name || ch == camera_motion) {
       OnMotion(raw);
     } else if (ch == channels::kStatus.name) {
       status_t s{};
@@ -106,12 +110,28 @@ bool LogHasStations(const std::string& log_path) {
   for (int i = 0; i < 500; ++i) {
     auto event = reader.Next();
     if (!event) return false;
-    if (event->channel == channels::kStation.name) return true;
+    if (PipelineChannelOf(event->channel) == channels::kStation.name) return true;
   }
   return false;
 }
 
-bool FeedsPipeline(const std::string& ch, bool use_detector) {
+std::vector<std::string> CamerasInLog(const std::string& log_path) {
+  std::vector<std::string> cameras;
+  LogReader reader(log_path);
+  for (int i = 0; i < 5000; ++i) {
+    auto event = reader.Next();
+    if (!event) break;
+    const std::string base = PipelineChannelOf(event->channel);
+    if (base != channels::kCameraImage.name && base != channels::kStation.name) continue;
+    const std::string camera = CameraOfChannel(event->channel);
+    if (!camera.empty() && std::find(cameras.begin(), cameras.end(), camera) == cameras.end())
+      cameras.push_back(camera);
+  }
+  return cameras;
+}
+
+bool FeedsPipeline(const std::string& channel, bool use_detector) {
+  const std::string ch = PipelineChannelOf(channel);  // any camera's
   if (ch == channels::kGroundTruth.name) return true;
   if (ch == channels::kStation.name) return !use_detector;
   const bool raw =

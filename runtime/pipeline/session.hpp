@@ -35,8 +35,10 @@ struct StationTimes {
 
 class SessionRecord {
  public:
-  // The session log goes to `dir`/session.lcmlog as `record` says.
-  SessionRecord(Bus& bus, const std::string& dir, const RecordSettings& record);
+  // The session log goes to `dir`/session.lcmlog as `record` says. On a rig of several cameras, one
+  // record per camera: its stations, camera motions, extrinsics and ground truth, and the rig's LiDAR
+  // motions and STATUS.
+  SessionRecord(Bus& bus, const std::string& dir, const RecordSettings& record, const std::string& camera = "");
   ~SessionRecord();
 
   // Every station seen, by id.
@@ -56,8 +58,9 @@ class SessionRecord {
   int64_t last_news_utime() const { return last_news_utime_; }
   // Latest STATUS per stage name: state and last error.
   const std::map<std::string, std::pair<std::string, std::string>>& stage_states() const { return stage_states_; }
-  // The latest CAMERA_INFO as it came (empty: none), given again to a restarted stationarity stage.
-  const std::vector<uint8_t>& camera_info_bytes() const { return camera_info_bytes_; }
+  // The latest CAMERA_INFO of every camera as it came, given again to a restarted stationarity stage.
+  const CameraInfos& camera_infos() const { return camera_infos_; }
+  const std::string& camera() const { return camera_; }
   // Every counter of each stage's latest STATUS (busy_s; bus_dropped: messages its bus knows it lost, DDS).
   const std::map<std::string, std::map<std::string, double>>& stage_counters() const { return stage_counters_; }
 
@@ -82,7 +85,8 @@ class SessionRecord {
   std::set<int> taken_motions_to_;
   std::vector<extrinsic_t> extrinsics_;
   std::vector<int64_t> extrinsic_receive_utimes_;
-  std::vector<uint8_t> camera_info_bytes_;
+  std::string camera_;
+  CameraInfos camera_infos_;
   std::optional<ground_truth_t> ground_truth_;
   int lidar_motions_ = 0, camera_motions_ = 0, failed_motions_ = 0;
   std::map<std::string, int> failure_reasons_;
@@ -94,6 +98,10 @@ class SessionRecord {
 // True when the log carries STATION messages among its first 500 events (a stop-and-scan dataset or
 // `simulate --stations-only`); then the pipeline takes them instead of running the detector.
 bool LogHasStations(const std::string& log_path);
+
+// The cameras a log names on their own channels (CAMERA_IMAGE_front, STATION_front, ...), in the order
+// they first appear among its first 5000 events; empty when it names none (one camera, plain channels).
+std::vector<std::string> CamerasInLog(const std::string& log_path);
 
 // Whether a logged channel goes into the pipeline: the ground truth always; STATION when the stations
 // come from the log; the raw streams and CAMERA_INFO when the detector makes the stations.

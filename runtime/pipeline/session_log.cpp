@@ -10,7 +10,8 @@ namespace fusecal {
 namespace {
 
 bool IsRawFrame(const std::string& channel) {
-  return channel == channels::kCameraImage.name || channel == channels::kLidarScan.name;
+  const std::string base = PipelineChannelOf(channel);
+  return base == channels::kCameraImage.name || base == channels::kLidarScan.name;
 }
 
 // Bytes an event takes in an LCM log: sync word, event number, utime, channel and data lengths.
@@ -23,7 +24,7 @@ SessionLog::SessionLog(const std::string& dir, const RecordSettings& settings) :
 }
 
 void SessionLog::Write(const std::string& channel, int64_t utime, const uint8_t* data, size_t size,
-                       const std::vector<uint8_t>& camera_info) {
+                       const CameraInfos& camera_infos) {
   if (!session_) return;
   if (!IsRawFrame(channel)) {
     session_->Write(channel, utime, data, size);
@@ -31,19 +32,19 @@ void SessionLog::Write(const std::string& channel, int64_t utime, const uint8_t*
   }
   if (settings_.what != "all") return;
   const double segment_cap = settings_.max_raw_mb * 1e6 / 8;
-  if (!segment_ || segments_.back().bytes + EventBytes(channel, size) > segment_cap) StartSegment(utime, camera_info);
+  if (!segment_ || segments_.back().bytes + EventBytes(channel, size) > segment_cap) StartSegment(utime, camera_infos);
   segment_->Write(channel, utime, data, size);
   segments_.back().bytes += EventBytes(channel, size);
 }
 
-void SessionLog::StartSegment(int64_t utime, const std::vector<uint8_t>& camera_info) {
+void SessionLog::StartSegment(int64_t utime, const CameraInfos& camera_infos) {
   if (segment_) segment_->Close();
   std::filesystem::create_directories(dir_ + "/raw");
   segments_.push_back({dir_ + "/raw/raw-" + std::to_string(next_segment_++) + ".lcmlog", 0.0});
   segment_ = std::make_unique<LogWriter>(segments_.back().path);
-  if (!camera_info.empty()) {
-    segment_->Write(channels::kCameraInfo.name, utime, camera_info.data(), camera_info.size());
-    segments_.back().bytes += EventBytes(channels::kCameraInfo.name, camera_info.size());
+  for (const auto& [channel, camera_info] : camera_infos) {
+    segment_->Write(channel, utime, camera_info.data(), camera_info.size());
+    segments_.back().bytes += EventBytes(channel, camera_info.size());
   }
   double total = 0;
   for (const auto& s : segments_) total += s.bytes;

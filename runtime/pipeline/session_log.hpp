@@ -10,6 +10,7 @@
 #pragma once
 
 #include <deque>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,6 +18,9 @@
 #include "runtime/lcm_log.hpp"
 
 namespace fusecal {
+
+// The latest CAMERA_INFO of each camera as it came, by channel (CAMERA_INFO, CAMERA_INFO_front, ...).
+using CameraInfos = std::map<std::string, std::vector<uint8_t>>;
 
 struct RecordSettings {
   std::string what = "stations";  // all | stations | none
@@ -27,16 +31,16 @@ class SessionLog {
  public:
   // `dir`: the output folder. Throws LogError when a file cannot be created.
   SessionLog(const std::string& dir, const RecordSettings& settings);
-  // Records one message as the policy says; `camera_info` is the latest CAMERA_INFO (for a new segment).
+  // Records one message as the policy says; `camera_infos` start a new segment.
   void Write(const std::string& channel, int64_t utime, const uint8_t* data, size_t size,
-             const std::vector<uint8_t>& camera_info);
+             const CameraInfos& camera_infos);
   // Flushes and closes every file; throws LogError when data could not be written.
   void Close();
   // Raw-frame segments deleted to stay under the cap.
   int segments_deleted() const { return segments_deleted_; }
 
  private:
-  void StartSegment(int64_t utime, const std::vector<uint8_t>& camera_info);
+  void StartSegment(int64_t utime, const CameraInfos& camera_infos);
 
   RecordSettings settings_;
   std::string dir_;

@@ -15,8 +15,8 @@ struct NamedNode {
   std::unique_ptr<StageNode> node;
 };
 
-// The in-process stages of the registry (stages/stages.def) in start order; stationarity only when it
-// makes the stations.
+// The in-process stages of the registry (stages/stages.def) in start order, a per-camera stage once per
+// camera of the rig (named stage/camera); stationarity only when it makes the stations.
 std::vector<NamedNode> MakeStageNodes(const PipelineConfig& config, bool with_stationarity);
 
 }  // namespace fusecal

@@ -22,7 +22,8 @@ template <typename Node>
 constexpr bool kInProcess = !std::is_same_v<Node, NoInProcessNode>;
 
 template <typename Node, typename Settings>
-std::unique_ptr<StageNode> MakeNode(const Settings& settings) {
+std::unique_ptr<StageNode> MakeNode(Settings settings, const std::string& camera) {
+  if constexpr (IsPerCameraStage<Settings>::value) settings.camera = camera;
   if constexpr (kInProcess<Node>)
     return std::make_unique<Node>(settings);
   else
@@ -39,7 +40,8 @@ std::string StageInfo::Executable() const {
 
 const std::vector<StageInfo>& StageRegistry() {
   static const std::vector<StageInfo> registry = {
-#define FUSECAL_STAGE(name, header, Settings, read, Node, in, out) {#name, Words(in), Words(out), kInProcess<Node>},
+#define FUSECAL_STAGE(name, header, Settings, read, Node, in, out) \
+  {#name, Words(in), Words(out), kInProcess<Node>, IsPerCameraStage<Settings>::value},
 #include "stages/stages.def"
 #undef FUSECAL_STAGE
   };
@@ -52,9 +54,10 @@ const StageInfo* FindStage(const std::string& name) {
   return nullptr;
 }
 
-std::unique_ptr<StageNode> MakeStageNode(const std::string& name, const PipelineConfig& config) {
+std::unique_ptr<StageNode> MakeStageNode(const std::string& name, const PipelineConfig& config,
+                                         const std::string& camera) {
 #define FUSECAL_STAGE(stage, header, Settings, read, Node, in, out) \
-  if (name == #stage) return MakeNode<Node>(config.stage);
+  if (name == #stage) return MakeNode<Node>(config.stage, camera);
 #include "stages/stages.def"
 #undef FUSECAL_STAGE
   return nullptr;

@@ -18,6 +18,7 @@ struct StageInfo {
   std::vector<std::string> channels_in;   // what it subscribes to (besides nothing: STATUS is out only)
   std::vector<std::string> channels_out;  // what it publishes, besides STATUS
   bool in_process = false;                // `calibrate` runs its node in its own process
+  bool per_camera = false;                // one per camera of the rig (camera front end, fusion odometry, hand-eye)
 
   // fusecal-<name with dashes>
   std::string Executable() const;
@@ -29,8 +30,9 @@ const std::vector<StageInfo>& StageRegistry();
 // The stage called `name`, or nullptr.
 const StageInfo* FindStage(const std::string& name);
 
-// The node of an in-process stage, built from its section of `config`; nullptr for a stage that only runs
-// as a process (or an unknown name).
-std::unique_ptr<StageNode> MakeStageNode(const std::string& name, const PipelineConfig& config);
+// The node of an in-process stage, built from its section of `config` (a per-camera stage's for `camera`);
+// nullptr for a stage that only runs as a process (or an unknown name).
+std::unique_ptr<StageNode> MakeStageNode(const std::string& name, const PipelineConfig& config,
+                                         const std::string& camera = "");
 
 }  // namespace fusecal

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "runtime/pipeline/stage_registry.hpp"
+#include "runtime/rig.hpp"
 
 namespace fusecal {
 
@@ -23,13 +24,26 @@ const std::vector<std::string>& KnownStageNames() {
   return names;
 }
 
-std::vector<std::string> PipelineStageNames(bool with_stationarity, bool with_ros2_tf, bool with_ros2_input) {
+std::vector<std::string> PipelineStageNames(bool with_stationarity, bool with_ros2_tf, bool with_ros2_input,
+                                            const std::vector<std::string>& cameras) {
   std::vector<std::string> names;
-  for (const auto& name : KnownStageNames())
-    if ((name != "stationarity" || with_stationarity) && (name != "ros2_tf" || with_ros2_tf) &&
-        (name != "ros2_input" || with_ros2_input))
+  for (const auto& name : KnownStageNames()) {
+    if ((name == "stationarity" && !with_stationarity) || (name == "ros2_tf" && !with_ros2_tf) ||
+        (name == "ros2_input" && !with_ros2_input))
+      continue;
+    if (!FindStage(name)->per_camera || cameras.front().empty()) {
       names.push_back(name);
+      continue;
+    }
+    for (const auto& camera : cameras) names.push_back(name + "/" + camera);
+  }
   return names;
+}
+
+std::pair<std::string, std::string> StageAndCamera(const std::string& name) {
+  const size_t slash = name.find('/');
+  if (slash == std::string::npos) return {name, ""};
+  return {name.substr(0, slash), name.substr(slash + 1)};
 }
 
 std::vector<std::string> ParseStageList(const std::string& list) {
@@ -37,8 +51,13 @@ std::vector<std::string> ParseStageList(const std::string& list) {
   std::istringstream in(list);
   for (std::string name; std::getline(in, name, ',');) {
     if (name.empty()) continue;
-    if (!Contains(KnownStageNames(), name))
+    const auto [stage, camera] = StageAndCamera(name);
+    if (!Contains(KnownStageNames(), stage))
       throw std::invalid_argument("unknown stage '" + name + "' (the stages: " + JoinNames(KnownStageNames()) + ")");
+    if (name.find('/') != std::string::npos && !FindStage(stage)->per_camera)
+      throw std::invalid_argument("stage '" + stage + "' serves the whole rig: list it without a camera");
+    if (name.find('/') != std::string::npos && !CameraNameProblem(camera).empty())
+      throw std::invalid_argument("stage '" + name + "': the camera name " + CameraNameProblem(camera));
     if (Contains(names, name)) throw std::invalid_argument("stage '" + name + "' is listed twice");
     names.push_back(name);
   }
@@ -48,10 +67,15 @@ std::vector<std::string> ParseStageList(const std::string& list) {
 
 StageSplit SplitStages(const std::vector<std::string>& pipeline, const std::vector<std::string>& selected) {
   StageSplit split;
-  for (const auto& name : pipeline)
-    (selected.empty() || Contains(selected, name) ? split.here : split.elsewhere).push_back(name);
-  for (const auto& name : selected)
-    if (!Contains(pipeline, name)) split.not_needed.push_back(name);
+  for (const auto& name : pipeline) {
+    const bool chosen = selected.empty() || Contains(selected, name) || Contains(selected, StageAndCamera(name).first);
+    (chosen ? split.here : split.elsewhere).push_back(name);
+  }
+  for (const auto& name : selected) {
+    bool in_pipeline = Contains(pipeline, name);
+    for (const auto& instance : pipeline) in_pipeline = in_pipeline || StageAndCamera(instance).first == name;
+    if (!in_pipeline) split.not_needed.push_back(name);
+  }
   return split;
 }
 

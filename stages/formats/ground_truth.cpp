@@ -1,5 +1,7 @@
 #include "stages/formats/ground_truth.hpp"
 
+#include "stages/formats/rig_file.hpp"
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -91,16 +93,23 @@ TruthExtrinsic TruthExtrinsicAtEnd(const std::vector<ground_truth_t>& truths) {
   return TruthExtrinsicAt(truths, std::numeric_limits<int64_t>::max());
 }
 
-ReferenceExtrinsic ReadReference(const std::string& path, std::optional<int64_t> at_utime) {
+ReferenceExtrinsic ReadReference(const std::string& path, std::optional<int64_t> at_utime, const std::string& camera) {
   if (IsResultFilePath(path)) {
     if (at_utime)
       throw std::runtime_error(path +
                                ": a result file holds one extrinsic, with no time; choosing the "
                                "extrinsic in force at a utime needs a log with GROUND_TRUTH");
-    return {ReadResultFile(path).T_camera_lidar, std::nullopt};
+    if (camera.empty()) return {ReadResultFile(path).T_camera_lidar, std::nullopt};
+    for (const auto& c : ReadRigFile(path).cameras)
+      if (c.camera == camera) return {c.T_camera_lidar, std::nullopt};
+    throw std::runtime_error(path + ": no camera " + camera);
   }
-  const auto truths = ReadGroundTruths(path);
-  if (truths.empty()) throw std::runtime_error(path + ": the log has no GROUND_TRUTH message");
+  std::vector<ground_truth_t> truths;
+  for (auto& truth : ReadGroundTruths(path))
+    if (truth.camera.name == camera) truths.push_back(std::move(truth));
+  if (truths.empty())
+    throw std::runtime_error(path + ": the log has no GROUND_TRUTH message" +
+                             (camera.empty() ? std::string() : " of camera " + camera));
   try {
     const TruthExtrinsic e = at_utime ? TruthExtrinsicAt(truths, *at_utime) : TruthExtrinsicAtEnd(truths);
     return {e.T_camera_lidar, e.from_utime};

@@ -53,7 +53,10 @@ struct ReferenceExtrinsic {
   Isometry3 T_camera_lidar = Isometry3::Identity();
   std::optional<int64_t> from_utime;
 };
-ReferenceExtrinsic ReadReference(const std::string& log_or_yaml, std::optional<int64_t> at_utime = std::nullopt);
+// `camera`: that camera's on a rig of several (GROUND_TRUTH whose camera is named so; T_<camera>_lidar of a
+// rig's result file).
+ReferenceExtrinsic ReadReference(const std::string& log_or_yaml, std::optional<int64_t> at_utime = std::nullopt,
+                                 const std::string& camera = "");
 
 // ReadReference(log_or_yaml).T_camera_lidar.
 Isometry3 ReadReferenceExtrinsic(const std::string& log_or_yaml);

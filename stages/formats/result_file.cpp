@@ -143,6 +143,10 @@ CalibrationResult ReadResultFile(const std::string& path) {
     throw std::runtime_error(std::string("result file ") + e.what());
   }
   const YAML::Node matrix = root.IsMap() ? root["T_camera_lidar"] : YAML::Node();
+  if (!matrix && root.IsMap() && root["cameras"])
+    throw std::runtime_error(path +
+                             " is the result of a rig of several cameras (T_<camera>_lidar): give one camera's, "
+                             "<camera>/extrinsic.yaml beside it");
   if (!matrix || !matrix.IsSequence() || matrix.size() != 16)
     throw std::runtime_error(path + ": 'T_camera_lidar' must be a list of 16 numbers (row-major 4x4)");
   double m[16];

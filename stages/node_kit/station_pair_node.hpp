@@ -28,13 +28,16 @@ namespace fusecal {
 template <typename Prepared>
 class StationPairNode : public StageNode {
  public:
-  // `sensor` names the motions ("lidar", "camera"); they are published on `channel`.
-  StationPairNode(std::string sensor, Channel<motion_t> channel, int previous_stations)
-      : sensor_(std::move(sensor)), channel_(channel), previous_stations_(previous_stations) {}
+  // `sensor` names the motions ("lidar", "camera"); the stations come on `stations`, the motions are
+  // published on `channel`.
+  StationPairNode(std::string sensor, Channel<station_t> stations, Channel<motion_t> channel, int previous_stations)
+      : sensor_(std::move(sensor)),
+        stations_channel_(stations),
+        channel_(channel),
+        previous_stations_(previous_stations) {}
 
   void Start(Bus& bus) override {
-    subscriptions_.push_back(
-        bus.Subscribe(channels::kStation, [this, &bus](const station_t& s) { OnStation(bus, s); }));
+    subscriptions_.push_back(bus.Subscribe(stations_channel_, [this, &bus](const station_t& s) { OnStation(bus, s); }));
   }
 
   StageStatus Status() const override {
@@ -93,6 +96,7 @@ class StationPairNode : public StageNode {
   }
 
   std::string sensor_;
+  Channel<station_t> stations_channel_;
   Channel<motion_t> channel_;
   int previous_stations_;
   std::deque<std::pair<int, Prepared>> previous_;   // (station id, prepared), by id, highest last

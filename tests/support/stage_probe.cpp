@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   fusecal::StageDefinition stage;
   stage.name = "probe";
   stage.description = "test probe stage";
-  stage.make_node = [](const std::string& config_path) {
+  stage.make_node = [](const std::string& config_path, const std::string&) {
     std::string prefix = "echo:";
     if (!config_path.empty()) {
       auto config = fusecal::ConfigReader::FromFile(config_path);

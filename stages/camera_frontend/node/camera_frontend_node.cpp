@@ -26,7 +26,8 @@ CameraFrontendNodeSettings ReadCameraFrontendNodeSettings(ConfigReader r) {
 }
 
 CameraFrontendNode::CameraFrontendNode(CameraFrontendNodeSettings settings)
-    : StationPairNode<StationFeatures>("camera", channels::kCameraMotion, settings.previous_stations),
+    : StationPairNode<StationFeatures>("camera", ForCamera(channels::kStation, settings.camera),
+                                       ForCamera(channels::kCameraMotion, settings.camera), settings.previous_stations),
       settings_(std::move(settings)) {}
 
 StationFeatures CameraFrontendNode::Prepare(const station_t& station) {

@@ -13,6 +13,7 @@
 namespace fusecal {
 
 struct CameraFrontendNodeSettings {
+  std::string camera;  // its name on a rig of several (its channels: STATION_<camera>, ...); empty: the one camera
   CameraFrontendNodeSettings() { frontend.features.detection_scale = 0.5; }  // live: AKAZE at half size
   int previous_stations = 1;  // must match lidar_icp.previous_stations; in [1, 10]
   CameraFrontendSettings frontend;

@@ -48,16 +48,17 @@ FusionOdometryNodeSettings ReadFusionOdometryNodeSettings(ConfigReader r) {
 }
 
 void FusionOdometryNode::Start(Bus& bus) {
-  subscriptions_.push_back(bus.Subscribe(channels::kStation, [this, &bus](const station_t& s) {
-    OnStation(s);
-    AnswerPendingIfReady(bus, false);
-  }));
+  subscriptions_.push_back(
+      bus.Subscribe(ForCamera(channels::kStation, settings_.camera), [this, &bus](const station_t& s) {
+        OnStation(s);
+        AnswerPendingIfReady(bus, false);
+      }));
   subscriptions_.push_back(bus.Subscribe(channels::kLidarMotion, [this, &bus](const motion_t& m) {
     if (m.valid) lidar_motions_[{m.station_i, m.station_j}] = FromRowMajor(m.T_i_j);
     AnswerPendingIfReady(bus, false);
   }));
-  subscriptions_.push_back(
-      bus.Subscribe(channels::kExtrinsic, [this, &bus](const extrinsic_t& e) { OnExtrinsic(bus, e); }));
+  subscriptions_.push_back(bus.Subscribe(ForCamera(channels::kExtrinsic, settings_.camera),
+                                         [this, &bus](const extrinsic_t& e) { OnExtrinsic(bus, e); }));
 }
 
 void FusionOdometryNode::OnStation(const station_t& station) {
@@ -189,7 +190,7 @@ void FusionOdometryNode::OnExtrinsic(Bus& bus, const extrinsic_t& extrinsic) {
   EvictStations();
   if (const auto cached = answered_.find(extrinsic.version); cached != answered_.end()) {
     ++repeats_;
-    bus.Publish(channels::kFusedMotions, cached->second);
+    bus.Publish(ForCamera(channels::kFusedMotions, settings_.camera), cached->second);
     return;
   }
   // Only versions that ask for refinement are answered.
@@ -229,7 +230,7 @@ void FusionOdometryNode::AnswerPendingIfReady(Bus& bus, bool waited_enough) {
   newest_answered_ = extrinsic.version;
   answered_[extrinsic.version] = answer;
   while (answered_.size() > 4) answered_.erase(answered_.begin());
-  bus.Publish(channels::kFusedMotions, answer);
+  bus.Publish(ForCamera(channels::kFusedMotions, settings_.camera), answer);
 }
 
 void FusionOdometryNode::Tick(Bus& bus, int64_t now_utime) {

@@ -22,6 +22,8 @@
 namespace fusecal {
 
 struct FusionOdometryNodeSettings {
+  std::string
+      camera;  // its name on a rig of several (STATION_<camera>, EXTRINSIC_<camera>, ...); empty: the one camera
   fusion_odometry::FusionOdometrySettings odometry;
   double input_wait_s = 2.0;  // how long a request waits for the stations and LiDAR motions it needs
   // A pair keeps its last motion when the extrinsic moved less than this since (0: always recompute);

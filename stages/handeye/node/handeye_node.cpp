@@ -41,8 +41,9 @@ double Seconds(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-CalibratorSettings ReadCalibratorSettings(ConfigReader r) {
-  CalibratorSettings s;
+HandEyeNodeSettings ReadHandEyeNodeSettings(ConfigReader r) {
+  HandEyeNodeSettings node;
+  CalibratorSettings& s = node.calibrator;
   r.Get("tolerance_rotation_deg", &s.tolerance_rotation_deg);
   r.Get("tolerance_translation_m", &s.tolerance_translation_m);
   r.Get("tolerance_std_fraction", &s.tolerance_std_fraction);
@@ -70,7 +71,7 @@ CalibratorSettings ReadCalibratorSettings(ConfigReader r) {
   r.FailIfInvalid(s.Validate(), {{"max_angle_difference_deg", "solver.max_angle_difference_deg"},
                                  {"min_rotation_deg", "solver.min_rotation_deg"},
                                  {"min_pairs", "solver.min_pairs"}});
-  return s;
+  return node;
 }
 
 SensorMotion ToSensorMotion(const motion_t& m) {
@@ -113,26 +114,33 @@ void HandEyeNode::Start(Bus& bus) {
     const std::vector<CalibrationVersion> versions = calibrator_.OnMotion(ToSensorMotion(m), NowUtime());
     PublishAll(bus, versions, Seconds(start));
   };
-  subscriptions_.push_back(bus.Subscribe(channels::kCameraMotion, on_motion));
+  subscriptions_.push_back(bus.Subscribe(ForCamera(channels::kCameraMotion, camera_), on_motion));
   subscriptions_.push_back(bus.Subscribe(channels::kLidarMotion, on_motion));
-  subscriptions_.push_back(bus.Subscribe(channels::kFusedMotions, [this, &bus](const motion_set_t& set) {
-    const auto start = std::chrono::steady_clock::now();
-    std::vector<SensorMotion> motions;
-    for (const auto& m : set.motions) motions.push_back(ToSensorMotion(m));
-    const std::vector<CalibrationVersion> versions =
-        calibrator_.OnFusedMotions(set.extrinsic_version, motions, NowUtime());
-    PublishAll(bus, versions, Seconds(start));
-  }));
+  subscriptions_.push_back(
+      bus.Subscribe(ForCamera(channels::kFusedMotions, camera_), [this, &bus](const motion_set_t& set) {
+        const auto start = std::chrono::steady_clock::now();
+        std::vector<SensorMotion> motions;
+        for (const auto& m : set.motions) motions.push_back(ToSensorMotion(m));
+        const std::vector<CalibrationVersion> versions =
+            calibrator_.OnFusedMotions(set.extrinsic_version, motions, NowUtime());
+        PublishAll(bus, versions, Seconds(start));
+      }));
 }
 
 void HandEyeNode::PublishAll(Bus& bus, const std::vector<CalibrationVersion>& versions, double seconds) {
   if (versions.empty()) return;
   work_.Add(seconds);  // a solve
-  for (const auto& v : versions) bus.Publish(channels::kExtrinsic, ToExtrinsicMessage(v));
+  for (const auto& v : versions) Publish(bus, v);
+}
+
+void HandEyeNode::Publish(Bus& bus, const CalibrationVersion& version) {
+  extrinsic_t msg = ToExtrinsicMessage(version);
+  msg.camera = camera_;
+  bus.Publish(ForCamera(channels::kExtrinsic, camera_), msg);
 }
 
 void HandEyeNode::Tick(Bus& bus, int64_t now_utime) {
-  if (const auto repeat = calibrator_.Tick(now_utime)) bus.Publish(channels::kExtrinsic, ToExtrinsicMessage(*repeat));
+  if (const auto repeat = calibrator_.Tick(now_utime)) Publish(bus, *repeat);
 }
 
 StageStatus HandEyeNode::Status() const {

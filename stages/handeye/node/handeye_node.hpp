@@ -16,8 +16,12 @@
 
 namespace fusecal {
 
-// The `handeye` section of a pipeline config.
-CalibratorSettings ReadCalibratorSettings(ConfigReader section);
+// The `handeye` section of a pipeline config, and the camera the loop serves.
+struct HandEyeNodeSettings {
+  CalibratorSettings calibrator;
+  std::string camera;  // its name on a rig of several (CAMERA_MOTION_<camera>, EXTRINSIC_<camera>, ...)
+};
+HandEyeNodeSettings ReadHandEyeNodeSettings(ConfigReader section);
 
 // The Calibrator's view of a motion message, and its version as an EXTRINSIC message.
 SensorMotion ToSensorMotion(const motion_t& motion);
@@ -25,6 +29,8 @@ extrinsic_t ToExtrinsicMessage(const CalibrationVersion& version);
 
 class HandEyeNode : public StageNode {
  public:
+  explicit HandEyeNode(HandEyeNodeSettings settings)
+      : calibrator_(std::move(settings.calibrator)), camera_(std::move(settings.camera)) {}
   explicit HandEyeNode(CalibratorSettings settings) : calibrator_(std::move(settings)) {}
   void Start(Bus& bus) override;
   void Tick(Bus& bus, int64_t now_utime) override;
@@ -38,7 +44,10 @@ class HandEyeNode : public StageNode {
  private:
   void PublishAll(Bus& bus, const std::vector<CalibrationVersion>& versions, double seconds);
 
+  void Publish(Bus& bus, const CalibrationVersion& version);
+
   Calibrator calibrator_;
+  std::string camera_;
   std::vector<Subscription> subscriptions_;
   WorkStats work_;
 };

@@ -30,7 +30,8 @@ LidarIcpNodeSettings ReadLidarIcpNodeSettings(ConfigReader r) {
 }
 
 LidarIcpNode::LidarIcpNode(LidarIcpNodeSettings settings)
-    : StationPairNode<PointCloud>("lidar", channels::kLidarMotion, settings.previous_stations),
+    : StationPairNode<PointCloud>("lidar", ForCamera(channels::kStation, settings.station_camera),
+                                  channels::kLidarMotion, settings.previous_stations),
       settings_(std::move(settings)) {}
 
 PointCloud LidarIcpNode::Prepare(const station_t& station) {

@@ -12,7 +12,8 @@
 namespace fusecal {
 
 struct LidarIcpNodeSettings {
-  int previous_stations = 1;  // register each station to this many previous ones, in [1, 10]
+  std::string station_camera;  // whose stations it registers (STATION_<camera>): the rig's first camera
+  int previous_stations = 1;   // register each station to this many previous ones, in [1, 10]
   lidar_icp::RegistrationSettings registration;
 
   // Empty when usable, else what is wrong: previous_stations, or registration.Validate()'s message.

@@ -1,6 +1,7 @@
 #include "stages/stationarity/node/stationarity_node.hpp"
 
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include "runtime/channels.hpp"
@@ -32,9 +33,19 @@ StationarityNodeSettings ReadStationarityNodeSettings(ConfigReader r) {
 }
 
 void StationarityNode::Start(Bus& bus) {
-  subscriptions_.push_back(bus.Subscribe(channels::kCameraInfo, [this](const camera_info_t& c) { camera_ = c; }));
-  subscriptions_.push_back(
-      bus.SubscribeRaw(channels::kCameraImage.name, [this](const RawMessage& raw) { Queue(true, raw); }));
+  bus_ = &bus;
+  for (const std::string& camera : cameras_) {
+    subscriptions_.push_back(
+        bus.Subscribe(ForCamera(channels::kCameraInfo, camera), [this, camera](const camera_info_t& c) {
+          camera_infos_[camera] = c;
+          camera_infos_[camera].name = camera;
+        }));
+    if (camera == cameras_.front()) continue;
+    subscriptions_.push_back(bus.SubscribeRaw(ForCamera(channels::kCameraImage, camera).name,
+                                              [this, camera](const RawMessage& raw) { KeepOtherImage(camera, raw); }));
+  }
+  subscriptions_.push_back(bus.SubscribeRaw(ForCamera(channels::kCameraImage, cameras_.front()).name,
+                                            [this](const RawMessage& raw) { Queue(true, raw); }));
   subscriptions_.push_back(
       bus.SubscribeRaw(channels::kLidarScan.name, [this](const RawMessage& raw) { Queue(false, raw); }));
 }
@@ -81,7 +92,7 @@ void StationarityNode::Tick(Bus& bus, int64_t) {
 // The motion is measured on a quick reduced grey decode; the full image is decoded only for a station.
 void StationarityNode::TakeImage(Bus& bus, const std::vector<uint8_t>& bytes) {
   auto msg = std::make_shared<image_t>();
-  DecodeMessage(bytes.data(), bytes.size(), channels::kCameraImage.name, msg.get());
+  DecodeMessage(bytes.data(), bytes.size(), ForCamera(channels::kCameraImage, cameras_.front()).name, msg.get());
   if (!msg->frame_id.empty()) image_frame_id_ = msg->frame_id;
   const cv::Mat motion_image = ImageToMatReduced(*msg, detector_.settings().image.working_width_px);
   StationarityDetector::StationImage station_image;
@@ -100,25 +111,99 @@ void StationarityNode::TakeScan(Bus& bus, const std::vector<uint8_t>& bytes) {
 }
 
 void StationarityNode::Emit(Bus& bus, const DetectedStation& s) {
-  if (!camera_) {
+  std::string missing;
+  for (const std::string& camera : cameras_)
+    if (!camera_infos_.count(camera))
+      missing += std::string(missing.empty() ? "" : ", ") + ForCamera(channels::kCameraInfo, camera).name;
+  if (!missing.empty()) {
     ++without_camera_info_;
-    throw std::runtime_error("station " + std::to_string(s.id) + " dropped: no CAMERA_INFO received yet");
+    throw std::runtime_error("station " + std::to_string(s.id) + " dropped: no " + missing + " received yet");
   }
+  std::string problems;
   station_t msg{};
-  msg.utime = s.utime;
   msg.id = s.id;
   msg.still_from_utime = s.still_from;
   msg.still_to_utime = s.still_to;
-  msg.image = MatToImage(s.image, s.image.channels() == 1 ? "mono8" : "bgr8", s.image_utime, image_frame_id_);
   msg.cloud = CloudToMsg(s.cloud, s.scan_utime, scan_frame_id_);
-  msg.camera = *camera_;
-  bus.Publish(channels::kStation, msg);
+  for (const std::string& camera : cameras_) {
+    msg.camera = camera_infos_.at(camera);
+    if (camera == cameras_.front()) {
+      msg.utime = s.utime;
+      msg.image = MatToImage(s.image, s.image.channels() == 1 ? "mono8" : "bgr8", s.image_utime, image_frame_id_);
+      PublishStation(bus, camera, msg);
+      continue;
+    }
+    waiting_[camera].push_back({msg, s.image_utime});
+    if (const std::string p = PublishWaiting(bus, camera); !p.empty())
+      problems += std::string(problems.empty() ? "" : "; ") + p;
+  }
   ++stations_;
+  if (!problems.empty()) throw std::runtime_error(problems);
+}
+
+void StationarityNode::PublishStation(Bus& bus, const std::string& camera, const station_t& station) {
+  bus.Publish(ForCamera(channels::kStation, camera), station);
+}
+
+void StationarityNode::KeepOtherImage(const std::string& camera, const RawMessage& raw) {
+  auto& images = other_images_[camera];
+  const int64_t utime = PeekUtime(raw.data, raw.size);
+  images.push_back({utime, std::vector<uint8_t>(raw.data, raw.data + raw.size)});
+  while (!images.empty() && images.front().utime < utime - static_cast<int64_t>(kKeepOtherImages_s * 1e6))
+    images.pop_front();
+  if (waiting_[camera].empty()) return;
+  if (const std::string problem = PublishWaiting(*bus_, camera); !problem.empty()) throw std::runtime_error(problem);
+}
+
+bool StationarityNode::FillImage(const std::string& camera, int64_t image_utime, station_t* station) {
+  const OtherImage* best = nullptr;
+  for (const auto& image : other_images_[camera]) {
+    if (image.utime < station->still_from_utime || image.utime > station->still_to_utime) continue;
+    if (!best || std::llabs(image.utime - image_utime) < std::llabs(best->utime - image_utime)) best = &image;
+  }
+  if (!best) return false;
+  DecodeMessage(best->bytes.data(), best->bytes.size(), ForCamera(channels::kCameraImage, camera).name,
+                &station->image);
+  if (station->image.frame_id.empty()) station->image.frame_id = camera;
+  // The image as the first camera's is passed on: decoded to raw pixels (JPEG decoded once, here).
+  const cv::Mat mat = ImageToMat(station->image);
+  station->image = MatToImage(mat, mat.channels() == 1 ? "mono8" : "bgr8", best->utime, station->image.frame_id);
+  station->utime = std::max(best->utime, station->cloud.utime);
+  return true;
+}
+
+// The waiting stations of `camera` whose image has come go out; those whose interval the camera's images
+// have passed without one (or all of them, when flushing) are dropped, with the reason.
+std::string StationarityNode::PublishWaiting(Bus& bus, const std::string& camera, bool flushing) {
+  auto& waiting = waiting_[camera];
+  const auto& images = other_images_[camera];
+  const int64_t newest = images.empty() ? std::numeric_limits<int64_t>::min() : images.back().utime;
+  std::string dropped;
+  while (!waiting.empty()) {
+    WaitingStation& w = waiting.front();
+    if (FillImage(camera, w.image_utime, &w.station)) {
+      PublishStation(bus, camera, w.station);
+    } else if (flushing || newest > w.station.still_to_utime) {
+      ++stations_without_image_;
+      dropped += std::string(dropped.empty() ? "" : ", ") + std::to_string(w.station.id);
+    } else {
+      break;  // its image may still come
+    }
+    waiting.pop_front();
+  }
+  if (dropped.empty()) return "";
+  return "camera " + camera + ": no image inside the still interval of station " + dropped + " (its STATION_" + camera +
+         " is left out; the other cameras have theirs)";
 }
 
 void StationarityNode::Flush(Bus& bus) {
   Tick(bus, NowUtime());
   if (auto s = detector_.Flush()) Emit(bus, *s);
+  std::string problems;  // the input has ended: what waits for an image now has all it will get
+  for (const std::string& camera : cameras_)
+    if (const std::string p = PublishWaiting(bus, camera, true); !p.empty())
+      problems += std::string(problems.empty() ? "" : "; ") + p;
+  if (!problems.empty()) throw std::runtime_error(problems);
 }
 
 StageStatus StationarityNode::Status() const {
@@ -137,7 +222,8 @@ StageStatus StationarityNode::Status() const {
                 {"images_decimated", double(images_decimated_)},
                 {"images_without_texture", double(c.images_without_texture)},
                 {"out_of_order", double(c.images_out_of_order + c.scans_out_of_order)},
-                {"without_camera_info", without_camera_info_}};
+                {"without_camera_info", without_camera_info_},
+                {"stations_without_image", double(stations_without_image_)}};
   work_.AddTo(&s.counters);
   s.counters["image_ms_mean"] = image_work_.mean_ms();
   s.counters["scan_ms_mean"] = scan_work_.mean_ms();

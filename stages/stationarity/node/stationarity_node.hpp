@@ -10,9 +10,17 @@
 // Decimation: images are taken at most `max_image_rate_hz` (default 5 Hz; 0: all). Decoding a 2048x1024
 // JPEG alone costs about 4.5 ms; every scan is still taken, so each taken image has its scan within
 // max_pair_dt_s as before. Decimated images are counted as images_decimated (not as skipped).
+//
+// A rig of several cameras (docs/design.md, "Rigs of several cameras"): the first camera and the LiDAR
+// decide, as above; the rig is rigid, so when they stand still every camera does. Each station goes out
+// once per camera on STATION_<camera>, with the same id, interval and cloud and the camera's own image
+// taken inside the still interval, nearest the first camera's. The other cameras' images are kept
+// undecoded for the last `kKeepOtherImages_s`; a station whose image of a camera has not come yet waits
+// for it until that camera's images have passed the interval.
 #pragma once
 
 #include <deque>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,8 +36,9 @@ namespace fusecal {
 
 struct StationarityNodeSettings {
   StationaritySettings detector;
-  int raw_queue_depth = 2;         // frames kept per stream while the detector is busy, in [1, 1000]
-  double max_image_rate_hz = 5.0;  // images taken at most this often (0: every image)
+  int raw_queue_depth = 2;                   // frames kept per stream while the detector is busy, in [1, 1000]
+  double max_image_rate_hz = 5.0;            // images taken at most this often (0: every image)
+  std::vector<std::string> rig_cameras{""};  // the rig's cameras (the pipeline config's `cameras`), first decides
 
   // Empty when usable, else what is wrong: a field above, or detector.Validate()'s message.
   std::string Validate() const;
@@ -43,7 +52,8 @@ class StationarityNode : public StageNode {
       : detector_(settings.detector),
         raw_queue_depth_(settings.raw_queue_depth),
         min_image_interval_us_(settings.max_image_rate_hz > 0 ? static_cast<int64_t>(1e6 / settings.max_image_rate_hz)
-                                                              : 0) {}
+                                                              : 0),
+        cameras_(settings.rig_cameras) {}
   void Start(Bus& bus) override;
   // Takes the queued frames (oldest first) and publishes the stations they complete.
   void Tick(Bus& bus, int64_t now_utime) override;
@@ -59,6 +69,23 @@ class StationarityNode : public StageNode {
   void TakeImage(Bus& bus, const std::vector<uint8_t>& bytes);
   void TakeScan(Bus& bus, const std::vector<uint8_t>& bytes);
   void Emit(Bus& bus, const DetectedStation& station);
+  // The rig's other cameras.
+  struct OtherImage {
+    int64_t utime = 0;
+    std::vector<uint8_t> bytes;  // image_t, encoded
+  };
+  struct WaitingStation {
+    station_t station;        // with the cloud; its image still to come
+    int64_t image_utime = 0;  // the first camera's, to be matched
+  };
+  void KeepOtherImage(const std::string& camera, const RawMessage& raw);
+  // The camera's image for `station` (inside its interval, nearest image_utime), or false.
+  bool FillImage(const std::string& camera, int64_t image_utime, station_t* station);
+  void PublishStation(Bus& bus, const std::string& camera, const station_t& station);
+  // Publishes the waiting stations of `camera` that have their image; `flushing`: the input has ended, so
+  // those without one are dropped. Returns what was dropped, for the stage's log (empty: nothing).
+  std::string PublishWaiting(Bus& bus, const std::string& camera, bool flushing = false);
+  static constexpr double kKeepOtherImages_s = 4.0;
 
   StationarityDetector detector_;
   int raw_queue_depth_;
@@ -66,11 +93,16 @@ class StationarityNode : public StageNode {
   int64_t last_image_utime_ = -1;  // of the last image queued (not decimated)
   std::deque<QueuedFrame> queue_;  // both streams, arrival order
   int queued_images_ = 0, queued_scans_ = 0;
-  std::optional<camera_info_t> camera_;
+  std::vector<std::string> cameras_;                   // the rig's; cameras_[0] decides
+  std::map<std::string, camera_info_t> camera_infos_;  // by camera
+  std::map<std::string, std::deque<OtherImage>> other_images_;
+  std::map<std::string, std::deque<WaitingStation>> waiting_;
+  long stations_without_image_ = 0;
   // The frames the sensors' messages name (a ROS header's frame_id), passed on in STATION.
   std::string image_frame_id_ = "camera", scan_frame_id_ = "lidar";
   std::vector<Subscription> subscriptions_;
   int stations_ = 0, without_camera_info_ = 0;
+  Bus* bus_ = nullptr;  // for the other cameras' handlers
   long images_skipped_ = 0, scans_skipped_ = 0, images_decimated_ = 0;
   WorkStats work_;  // one item per frame taken
   WorkStats image_work_, scan_work_;

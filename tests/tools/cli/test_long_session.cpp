@@ -134,7 +134,8 @@ std::vector<std::string> Channels(const std::string& log) {
 TEST(SessionLog, RawFramesRotateUnderTheCapAndEachSegmentReplaysAlone) {
   const std::string dir = TempDir("all");
   SessionLog log(dir, RecordSettings{"all", 8.0});
-  const std::vector<uint8_t> frame(700000, 7), info(100, 1), station(1000, 2);
+  const std::vector<uint8_t> frame(700000, 7), station(1000, 2);
+  const CameraInfos info{{channels::kCameraInfo.name, std::vector<uint8_t>(100, 1)}};
   for (int k = 0; k < 40; ++k) {
     log.Write(channels::kCameraImage.name, k, frame.data(), frame.size(), info);
     log.Write(channels::kStation.name, k, station.data(), station.size(), info);
@@ -160,7 +161,8 @@ TEST(SessionLog, RawFramesRotateUnderTheCapAndEachSegmentReplaysAlone) {
 TEST(SessionLog, StationsPolicyKeepsNoRawFrameAndNoneWritesNothing) {
   const std::string dir = TempDir("stations");
   SessionLog log(dir, RecordSettings{});
-  const std::vector<uint8_t> frame(1000, 7), info;
+  const std::vector<uint8_t> frame(1000, 7);
+  const CameraInfos info;
   log.Write(channels::kLidarScan.name, 1, frame.data(), frame.size(), info);
   log.Write(channels::kStation.name, 2, frame.data(), frame.size(), info);
   log.Close();

@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <fstream>
 #include <functional>
 #include <string>
 
 #include "runtime/pipeline/pipeline_config.hpp"
+#include "runtime/pipeline/stage_nodes.hpp"
+#include "runtime/stage_main.hpp"
 
 namespace fusecal {
 namespace {
@@ -17,7 +20,7 @@ const Reader kStationarity = [](ConfigReader r) { ReadStationarityNodeSettings(r
 const Reader kLidarIcp = [](ConfigReader r) { ReadLidarIcpNodeSettings(r); };
 const Reader kCameraFrontend = [](ConfigReader r) { ReadCameraFrontendNodeSettings(r); };
 const Reader kFusionOdometry = [](ConfigReader r) { ReadFusionOdometryNodeSettings(r); };
-const Reader kHandEye = [](ConfigReader r) { ReadCalibratorSettings(r); };
+const Reader kHandEye = [](ConfigReader r) { ReadHandEyeNodeSettings(r); };
 const Reader kRos2Tf = [](ConfigReader r) { ReadRos2TfSettings(r); };
 const Reader kRos2Input = [](ConfigReader r) { ReadRos2InputSettings(r); };
 
@@ -105,7 +108,7 @@ TEST(PipelineConfig, ChangeDetectionIsReadAndABadValueIsNamed) {
   ConfigReader config = ConfigReader::FromString(
       "handeye: {change_detection: {enabled: false, off_probability: 1.0e-4, confirm_probability: 1.0e-2, window: 5, "
       "noise_floor_fraction: 0.2, test_direction: true, min_direction_length: 4}}");
-  const CalibratorSettings s = ReadCalibratorSettings(config.Child("handeye"));
+  const CalibratorSettings s = ReadHandEyeNodeSettings(config.Child("handeye")).calibrator;
   EXPECT_FALSE(s.change_detection.enabled);
   EXPECT_EQ(s.change_detection.off_probability, 1e-4);
   EXPECT_EQ(s.change_detection.confirm_probability, 1e-2);
@@ -162,6 +165,46 @@ TEST(PipelineConfig, NodeSettingsValidateTheirOwnFieldsAndTheCores) {
   CalibratorSettings handeye;
   handeye.solver.max_iterations = 0;  // the solver's, not the node's
   EXPECT_EQ(handeye.Validate().rfind("solver.max_iterations", 0), 0u) << handeye.Validate();
+}
+
+// The rig's cameras: each per-camera stage gets its camera, stationarity all of them, LiDAR ICP the first.
+TEST(PipelineConfig, TheRigsCamerasReachEveryStageThatNeedsThem) {
+  const std::string path = ::testing::TempDir() + "/fusecal_rig_config.yaml";
+  { std::ofstream(path) << "cameras: [{name: front}, {name: left}]\n"; }
+  const PipelineConfig config = LoadPipelineConfig(path);
+  EXPECT_EQ(config.cameras, (std::vector<std::string>{"front", "left"}));
+  EXPECT_EQ(config.stationarity.rig_cameras, config.cameras);
+  EXPECT_EQ(config.lidar_icp.station_camera, "front");
+  std::vector<std::string> names;
+  for (const auto& node : MakeStageNodes(config, true)) names.push_back(node.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"stationarity", "lidar_icp", "camera_frontend/front",
+                                             "camera_frontend/left", "fusion_odometry/front", "fusion_odometry/left",
+                                             "handeye/front", "handeye/left"}));
+  // A process of a per-camera stage must be told which camera it serves, and only one of the rig's.
+  EXPECT_EQ(StageRig(path, "left", true).camera, "left");
+  EXPECT_THROW(StageRig(path, "", true), ConfigError);
+  EXPECT_THROW(StageRig(path, "rear", true), ConfigError);
+  EXPECT_THROW(StageRig(path, "left", false), ConfigError);
+  EXPECT_EQ(StageRig("", "", true).camera, "");  // no config: one camera without a name
+}
+
+TEST(PipelineConfig, BadCameraNamesAreNamedWithTheirEntry) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"cameras: [{name: front}, {name: front}]", "'front' names two cameras"},
+      {"cameras: [{name: 'front-left'}]", "cameras[0].name"},
+      {"cameras: [{name: 2front}]", "must start with a letter"},
+      {"cameras: []", "must name at least one camera"},
+      {"cameras: [{name: a, fx: 3}]", "cameras[0].fx"},
+  };
+  for (const auto& [yaml, message] : cases) {
+    try {
+      ConfigReader root = ConfigReader::FromString(yaml);
+      ReadRigCameras(root);
+      ADD_FAILURE() << yaml << " accepted";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << yaml << ": " << e.what();
+    }
+  }
 }
 
 }  // namespace

@@ -27,14 +27,14 @@ void AddCalibrateCommand(CLI::App& app, int* exit_code) {
           std::cerr << line << "\n";
       });
       if (tty) std::cerr << "\n";
-      std::cout << SummaryText(report.outputs, out);
+      std::cout << (report.rig ? RigSummaryText(*report.rig, out) : SummaryText(report.outputs, out));
       std::cout << std::fixed << std::setprecision(2) << "time: " << report.total_seconds << " s total (";
       if (report.span_s > 0)
         std::cout << report.total_seconds / report.span_s << " x the recording's " << report.span_s << " s; ";
       std::cout << "outputs " << report.outputs_seconds << " s);";
       std::cout << StageBusyText(report.stage_counters);
       std::cout << "\n" << StageTableText(report.stage_counters, report.span_s);
-      *exit_code = FinalConverged(report.outputs) ? 0 : 1;
+      *exit_code = (report.rig ? AllConverged(*report.rig) : FinalConverged(report.outputs)) ? 0 : 1;
     } catch (const std::exception& e) {
       std::cerr << "fusecal calibrate: " << e.what() << "\n";
       *exit_code = 1;

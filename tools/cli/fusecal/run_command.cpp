@@ -80,7 +80,8 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
           [tty](const std::string& line) { std::cerr << (tty ? "\r\033[K" : "") << line << "\n"; });
       if (tty) std::cerr << "\n";
       if (g_stop) std::cerr << "stopped by signal; writing what was computed\n";
-      std::cout << SummaryText(report.outputs, options.out_dir);
+      std::cout << (report.rig ? RigSummaryText(*report.rig, options.out_dir)
+                               : SummaryText(report.outputs, options.out_dir));
       std::cout << std::fixed << std::setprecision(2) << "time: " << report.total_seconds << " s total (";
       if (report.span_s > 0)
         std::cout << report.total_seconds / report.span_s << " x the recording's " << report.span_s << " s: ";
@@ -95,7 +96,7 @@ void AddRunCommand(CLI::App& app, int* exit_code) {
       if (report.roudi_restarts > 0) std::cout << "; RouDi restarts: " << report.roudi_restarts;
       if (report.bus_counts_losses) std::cout << "; messages lost by the bus: " << report.bus_dropped;
       std::cout << "\n" << StageTableText(report.stage_counters, report.span_s) << LatencyText(report.latencies);
-      *exit_code = FinalConverged(report.outputs) ? 0 : 1;
+      *exit_code = (report.rig ? AllConverged(*report.rig) : FinalConverged(report.outputs)) ? 0 : 1;
       if (!report.failure.empty()) {
         std::cerr << "fusecal run: " << report.failure << "\n";
         *exit_code = 1;
