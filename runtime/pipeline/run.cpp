@@ -186,12 +186,14 @@ class PipelineRun {
  private:
   void StartStages() {
     names_ = split_.here;  // ros2_tf, when enabled: the extrinsic on ROS 2's rt/tf_static
-    for (const auto& name : split_.not_needed)
+    for (const auto& name : split_.not_needed) {
+      if (const std::string camera = StageAndCamera(name).second; !camera.empty())
+        throw std::runtime_error(
+            "--stages " + name + ": the rig has no camera " + camera + " (its cameras: " +
+            (config_.cameras.front().empty() ? std::string("one without a name") : JoinNames(config_.cameras)) + ")");
       event_(name + " is not started: " +
-             (name == "stationarity"                 ? std::string("the stations come from the log")
-              : name == "ros2_tf"                    ? std::string("ros2_tf.enabled is false in the config")
-              : !StageAndCamera(name).second.empty() ? "the rig has no camera " + StageAndCamera(name).second
-                                                     : std::string("not part of this pipeline")));
+             (name == "stationarity" ? "the stations come from the log" : "ros2_tf.enabled is false in the config"));
+    }
     for (const auto& name : names_) {
       const auto [stage, camera] = StageAndCamera(name);
       std::vector<std::string> args{"--config", config_.path, "--bus", transport_.stage_url()};

@@ -1,6 +1,7 @@
 // Running the project's executables from tests.
 #pragma once
 
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -44,6 +45,19 @@ inline pid_t StartInBackground(const std::string& command, const std::string& ou
     _exit(127);
   }
   return pid;
+}
+
+// Waits up to `seconds` for a background process; kills it (SIGTERM) when it has not ended. Its exit
+// status, -1 when it had to be killed.
+inline int WaitOrKill(pid_t pid, double seconds) {
+  int status = 0;
+  for (int i = 0; i < static_cast<int>(seconds * 10); ++i) {
+    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    usleep(100000);
+  }
+  kill(pid, SIGTERM);
+  waitpid(pid, &status, 0);
+  return -1;
 }
 
 }  // namespace fusecal::testing

@@ -27,6 +27,7 @@ namespace {
 using testing::ReadAll;
 using testing::RunCommand;
 using testing::StartInBackground;
+using testing::WaitOrKill;
 const std::string kFusecal = FUSECAL_BIN;
 const std::string kScenarios = SCENARIO_DIR;
 // A port of its own, so that nothing else on the machine talks into the test.
@@ -188,19 +189,6 @@ TEST_F(Pipeline, StageKilledWithSigkillIsRestartedAndTheAnswerStays) {
   EXPECT_NE(output.find("restarted"), std::string::npos) << output;
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
   ExpectSameAnswerAsCalibrate(out, output);
-}
-
-// Waits up to `seconds` for a background process; kills it (SIGTERM) when it has not ended. Its exit
-// status, -1 when it had to be killed.
-int WaitOrKill(pid_t pid, double seconds) {
-  int status = 0;
-  for (int i = 0; i < static_cast<int>(seconds * 10); ++i) {
-    if (waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  kill(pid, SIGTERM);
-  waitpid(pid, &status, 0);
-  return -1;
 }
 
 // The stages split between two `fusecal run`s on one bus, as on two hosts (tools/distributed runs this
