@@ -216,9 +216,14 @@ class PipelineRun {
   // when fusecal-ros2-input says its topics did not appear (its STATUS "no_input", the reason as its error).
   void ListenToRos2() {
     const auto& in = config_.ros2_input;
-    event_("calibrating from ROS 2 domain " + std::to_string(in.domain) + ": " + in.image_topic + ", " +
-           in.cloud_topic + (in.camera_file.empty() ? ", " + in.CameraInfoTopic() : ", camera " + in.camera_file) +
-           "; the extrinsic goes to rt/tf_static (domain " + std::to_string(config_.ros2_tf.domain) + ") and " +
+    std::string topics;
+    for (const Ros2CameraTopics& c : in.CameraTopics())
+      topics += (c.name.empty() ? "" : "camera " + c.name + " ") + c.image_topic +
+                (c.camera_file.empty() ? ", " + c.CameraInfoTopic() : ", camera " + c.camera_file) + ", ";
+    event_("calibrating from ROS 2 domain " + std::to_string(in.domain) + ": " + topics + in.cloud_topic +
+           (config_.cameras.front().empty()
+                ? "; the extrinsic goes to rt/tf_static (domain " + std::to_string(config_.ros2_tf.domain) + ") and "
+                : "; the rig's extrinsics go to ") +
            options_.out_dir + "/extrinsic.yaml (Ctrl-C to stop)");
     event_(url_ == "iox://" ? "the stages take the frames over shared memory (iox://, RouDi started by this run); "
                               "stages on other hosts need a network bus (--bus)"
@@ -237,8 +242,10 @@ class PipelineRun {
     report_.listen_seconds = Seconds(listen_start);
   }
 
-  // extrinsic.yaml for each new converged version, so that a long session always has its latest answer.
+  // extrinsic.yaml for each new converged version, so that a long session always has its latest answer;
+  // a rig's once every camera has converged, and again at each camera's next converged version.
   void WriteConvergedResult() {
+    if (!config_.cameras.front().empty()) return WriteConvergedRig();
     const extrinsic_t* e = session_.Final();
     if (!e || e->version == written_version_ || e->status != extrinsic_t::STATUS_CONVERGED) return;
     written_version_ = e->version;
@@ -246,6 +253,26 @@ class PipelineRun {
       WriteResultFile(options_.out_dir + "/extrinsic.yaml", ResultFromMessage(*e));
       event_("version " + std::to_string(e->version) + " converged: written to " + options_.out_dir +
              "/extrinsic.yaml");
+    } catch (const std::exception& error) {
+      event_(std::string("cannot write the result: ") + error.what());
+    }
+  }
+
+  void WriteConvergedRig() {
+    std::vector<RigCameraResult> cameras;
+    for (const SessionRecord* session : sessions_) {
+      const extrinsic_t* e = session->Final();
+      if (!e || e->status != extrinsic_t::STATUS_CONVERGED) return;
+      const CalibrationResult result = ResultFromMessage(*e);
+      cameras.push_back({session->camera(), result.T_camera_lidar, result.covariance, result.status, ""});
+    }
+    std::string versions;
+    for (const SessionRecord* session : sessions_) versions += std::to_string(session->Final()->version) + ",";
+    if (versions == written_rig_versions_) return;
+    written_rig_versions_ = versions;
+    try {
+      WriteRigFile(options_.out_dir + "/extrinsic.yaml", MakeRigResult(cameras));
+      event_("every camera converged: written to " + options_.out_dir + "/extrinsic.yaml");
     } catch (const std::exception& error) {
       event_(std::string("cannot write the result: ") + error.what());
     }
@@ -510,6 +537,7 @@ class PipelineRun {
   size_t stations_played_ = 0;         // stations of the log published, every camera's (stations from the log)
   std::map<int, int> station_copies_;  // station id -> cameras whose STATION of it was published
   int written_version_ = -1;           // ros2: the last converged version written to extrinsic.yaml
+  std::string written_rig_versions_;   // ros2, a rig: each camera's version last written
   Clock::time_point replay_start_, last_player_status_;
   int64_t replay_start_wall_utime_ = 0;
   int64_t first_utime_ = -1, last_utime_ = -1;  // of the events played
@@ -522,6 +550,9 @@ RunReport RunPipeline(const PipelineConfig& config, const RunOptions& options, c
                       const std::function<void(const std::string&)>& event) {
   const auto start = Clock::now();
   std::filesystem::create_directories(options.out_dir);
+  if (options.ros2)
+    if (const std::string problem = config.ros2_input.RigProblem(); !problem.empty())
+      throw std::runtime_error(config.path + ": ros2_input." + problem);
   PipelineConfig effective = config;
   if (!options.log_path.empty() && config.cameras.front().empty()) {
     // The stage processes read their rig from the config file: the log's cameras go into a copy of it.

@@ -13,9 +13,11 @@
 namespace fusecal::testing {
 namespace {
 
+// Any camera's (CAMERA_IMAGE_left, ...) too.
 bool IsSensorEvent(const LogEvent& event) {
-  return event.channel == channels::kCameraInfo.name || event.channel == channels::kCameraImage.name ||
-         event.channel == channels::kLidarScan.name;
+  const std::string channel = PipelineChannelOf(event.channel);
+  return channel == channels::kCameraInfo.name || channel == channels::kCameraImage.name ||
+         channel == channels::kLidarScan.name;
 }
 
 template <typename Message>
@@ -111,7 +113,7 @@ LogEvent LoopedRecording::Restamped(size_t index, bool backward, int64_t base) c
     }
     scan.utime = utime;
     Encode(scan, &event);
-  } else if (event.channel == channels::kCameraImage.name) {
+  } else if (PipelineChannelOf(event.channel) == channels::kCameraImage.name) {
     image_t image;
     if (!Decode(event, &image)) return event;
     image.utime = utime;

@@ -46,16 +46,25 @@ int64_t WallUtime() {
 }  // namespace
 
 Ros2InputNode::Ros2InputNode(const Ros2InputSettings& settings) : settings_(settings) {
-  std::optional<CameraParams> camera;
-  if (!settings_.camera_file.empty()) camera = LoadCameraFile(settings_.camera_file);
-  input_ = std::make_unique<Ros2SensorInput>(camera);
+  if (const std::string problem = settings_.RigProblem(); !problem.empty())
+    throw std::runtime_error("ros2_input." + problem);
+  const std::vector<Ros2CameraTopics> topics = settings_.CameraTopics();
+  for (const Ros2CameraTopics& c : topics) {
+    std::optional<CameraParams> camera;
+    if (!c.camera_file.empty()) camera = LoadCameraFile(c.camera_file);
+    cameras_.push_back({c.name, std::make_unique<Ros2SensorInput>(camera)});
+  }
+  cloud_input_ = std::make_unique<Ros2SensorInput>();
   participant_ = JoinRos2Domain(settings_.domain, ReceiveBufferBytes(settings_));
   discovery_ = std::make_unique<Ros2Discovery>(participant_);
+  for (size_t k = 0; k < topics.size(); ++k)
+    readers_.push_back({topics[k].compressed() ? Ros2SensorTopic::kCompressedImage : Ros2SensorTopic::kImage,
+                        topics[k].image_topic, static_cast<int>(k)});
   readers_.push_back(
-      {settings_.compressed() ? Ros2SensorTopic::kCompressedImage : Ros2SensorTopic::kImage, settings_.image_topic});
-  readers_.push_back(
-      {settings_.livox() ? Ros2SensorTopic::kLivoxCloud : Ros2SensorTopic::kCloud, settings_.cloud_topic});
-  if (settings_.camera_file.empty()) readers_.push_back({Ros2SensorTopic::kCameraInfo, settings_.CameraInfoTopic()});
+      {settings_.livox() ? Ros2SensorTopic::kLivoxCloud : Ros2SensorTopic::kCloud, settings_.cloud_topic, -1});
+  for (size_t k = 0; k < topics.size(); ++k)
+    if (topics[k].camera_file.empty())
+      readers_.push_back({Ros2SensorTopic::kCameraInfo, topics[k].CameraInfoTopic(), static_cast<int>(k)});
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
   dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
@@ -83,17 +92,34 @@ Ros2InputNode::~Ros2InputNode() {
 void Ros2InputNode::Start(Bus& bus) {
   start_utime_ = WallUtime();
   std::cerr << "fusecal-ros2_input: listening on ROS 2 domain " << settings_.domain << ":";
-  for (const Reader& r : readers_) std::cerr << " " << r.topic << " (" << Ros2TypeOf(r.kind) << ")";
+  for (const Reader& r : readers_)
+    std::cerr << " " << r.topic << " (" << Ros2TypeOf(r.kind)
+              << (r.camera >= 0 && !cameras_[r.camera].name.empty() ? ", camera " + cameras_[r.camera].name : "")
+              << ")";
   std::cerr << std::endl;
-  if (input_->camera()) Publish(bus, Ros2InputFrame{input_->camera(), {}, {}, {}});
+  for (size_t k = 0; k < cameras_.size(); ++k)
+    if (cameras_[k].input->camera())
+      Publish(bus, Ros2InputFrame{cameras_[k].input->camera(), {}, {}, {}}, static_cast<int>(k));
 }
 
 void Ros2InputNode::Tick(Bus& bus, int64_t) {
   const int64_t now = WallUtime();
   for (Reader& r : readers_) TakeAll(bus, r, now);
-  if (input_->camera() && now - last_camera_info_utime_ > kCameraInfoRepeatUs)
-    Publish(bus, Ros2InputFrame{input_->camera(), {}, {}, {}});
+  for (size_t k = 0; k < cameras_.size(); ++k)
+    if (cameras_[k].input->camera() && now - cameras_[k].last_camera_info_utime > kCameraInfoRepeatUs)
+      Publish(bus, Ros2InputFrame{cameras_[k].input->camera(), {}, {}, {}}, static_cast<int>(k));
   CheckTopicsArrived(now);
+}
+
+Ros2SensorInput& Ros2InputNode::InputOf(const Reader& r) const {
+  return r.camera < 0 ? *cloud_input_ : *cameras_[r.camera].input;
+}
+
+std::string Ros2InputNode::CounterKey(const Reader& r) const {
+  const std::string key = r.kind == Ros2SensorTopic::kCloud || r.kind == Ros2SensorTopic::kLivoxCloud ? "cloud"
+                          : r.kind == Ros2SensorTopic::kCameraInfo                                    ? "camera_info"
+                                                                                                      : "image";
+  return r.camera < 0 || cameras_[r.camera].name.empty() ? key : key + "_" + cameras_[r.camera].name;
 }
 
 // Every sample the reader holds, as serialized CDR (the encapsulation header first).
@@ -115,13 +141,13 @@ void Ros2InputNode::TakeAll(Bus& bus, Reader& r, int64_t now_utime) {
           ++r.latency_count;
         }
         const auto start = std::chrono::steady_clock::now();
-        const Ros2InputFrame frame = input_->Take(r.kind, buffer_.data(), buffer_.size(), now_utime);
+        const Ros2InputFrame frame = InputOf(r).Take(r.kind, buffer_.data(), buffer_.size(), now_utime);
         if (!frame.error.empty() && !r.warned) {
           r.warned = true;
           std::cerr << "fusecal-ros2_input: " << r.topic << ": skipped a message: " << frame.error
                     << " (counted as malformed in STATUS; later ones are not printed)" << std::endl;
         }
-        Publish(bus, frame);
+        Publish(bus, frame, r.camera);
         work_.Add(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       }
       ddsi_serdata_unref(samples[i]);
@@ -130,16 +156,19 @@ void Ros2InputNode::TakeAll(Bus& bus, Reader& r, int64_t now_utime) {
   }
 }
 
-void Ros2InputNode::Publish(Bus& bus, const Ros2InputFrame& frame) {
-  if (frame.camera) {
-    bus.Publish(channels::kCameraInfo, CameraToMsg(*frame.camera, WallUtime()));
-    last_camera_info_utime_ = WallUtime();
+void Ros2InputNode::Publish(Bus& bus, const Ros2InputFrame& frame, int camera) {
+  const std::string name = camera < 0 ? "" : cameras_[camera].name;
+  if (frame.camera && camera >= 0) {
+    camera_info_t info = CameraToMsg(*frame.camera, WallUtime());
+    info.name = name;
+    bus.Publish(ForCamera(channels::kCameraInfo, name), info);
+    cameras_[camera].last_camera_info_utime = WallUtime();
   }
   if (frame.image) {
     const SensorImage& image = *frame.image;
-    const std::string frame_id = image.frame_id.empty() ? "camera" : image.frame_id;
+    const std::string frame_id = image.frame_id.empty() ? (name.empty() ? "camera" : name) : image.frame_id;
     if (image.encoded.empty()) {
-      bus.Publish(channels::kCameraImage,
+      bus.Publish(ForCamera(channels::kCameraImage, name),
                   MatToImage(image.pixels, image.pixels.channels() == 1 ? "mono8" : "bgr8", image.utime, frame_id));
     } else {
       image_t msg{};
@@ -150,7 +179,7 @@ void Ros2InputNode::Publish(Bus& bus, const Ros2InputFrame& frame) {
       msg.encoding = image.encoding;
       msg.data = image.encoded;
       msg.size = static_cast<int32_t>(image.encoded.size());
-      bus.Publish(channels::kCameraImage, msg);
+      bus.Publish(ForCamera(channels::kCameraImage, name), msg);
     }
     ++published_images_;
     first_stamp_ = std::min(first_stamp_, image.utime);
@@ -169,7 +198,7 @@ void Ros2InputNode::CheckTopicsArrived(int64_t now_utime) {
   if (no_input_ || now_utime - start_utime_ < static_cast<int64_t>(settings_.topic_timeout_s * 1e6)) return;
   std::vector<const Reader*> missing;
   for (const Reader& r : readers_)
-    if (input_->counts(r.kind).received == 0) missing.push_back(&r);
+    if (InputOf(r).counts(r.kind).received == 0) missing.push_back(&r);
   if (missing.empty()) return;
   no_input_ = true;
   throw std::runtime_error(MissingTopicsMessage(missing));
@@ -194,18 +223,18 @@ std::string Ros2InputNode::MissingTopicsMessage(const std::vector<const Reader*>
 StageStatus Ros2InputNode::Status() const {
   StageStatus s;
   long received = 0;
-  for (const Reader& r : readers_) received += input_->counts(r.kind).received;
+  for (const Reader& r : readers_) received += InputOf(r).counts(r.kind).received;
   s.state = no_input_ ? "no_input" : received == 0 ? "waiting for topics" : "receiving";
   s.counters["images"] = static_cast<double>(published_images_);
   s.counters["scans"] = static_cast<double>(published_scans_);
-  s.counters["unstamped"] = input_->unstamped();
+  int unstamped = cloud_input_->unstamped();
+  for (const auto& c : cameras_) unstamped += c.input->unstamped();
+  s.counters["unstamped"] = unstamped;
   if (last_stamp_ > first_stamp_) s.counters["stream_span_s"] = (last_stamp_ - first_stamp_) * 1e-6;
   work_.AddTo(&s.counters);
   for (const Reader& r : readers_) {
-    const Ros2TopicCounts& c = input_->counts(r.kind);
-    const std::string key = r.kind == Ros2SensorTopic::kCloud || r.kind == Ros2SensorTopic::kLivoxCloud ? "cloud"
-                            : r.kind == Ros2SensorTopic::kCameraInfo                                    ? "camera_info"
-                                                                                                        : "image";
+    const Ros2TopicCounts& c = InputOf(r).counts(r.kind);
+    const std::string key = CounterKey(r);
     s.counters[key + "_received"] = static_cast<double>(c.received);
     s.counters[key + "_malformed"] = static_cast<double>(c.malformed);
     s.counters[key + "_lost"] = static_cast<double>(c.lost);

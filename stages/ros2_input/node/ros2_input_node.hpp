@@ -39,26 +39,36 @@ class Ros2InputNode : public StageNode {
   StageStatus Status() const override;
 
  private:
+  // One camera's image and camera info, converted by its own Ros2SensorInput.
+  struct CameraInput {
+    std::string name;  // the rig's name of it ("" for the one camera): its channels
+    std::unique_ptr<Ros2SensorInput> input;
+    int64_t last_camera_info_utime = 0;
+  };
   struct Reader {
     Ros2SensorTopic kind;
     std::string topic;  // ROS name
+    int camera = -1;    // into cameras_; -1: the cloud
     dds_entity_t reader = 0;
     double latency_sum_s = 0, latency_max_s = 0;  // DDS source timestamp to here
     long latency_count = 0;
     bool warned = false;  // the first malformed message was reported
   };
   void TakeAll(Bus& bus, Reader& reader, int64_t now_utime);
-  void Publish(Bus& bus, const Ros2InputFrame& frame);
+  void Publish(Bus& bus, const Ros2InputFrame& frame, int camera);
+  Ros2SensorInput& InputOf(const Reader& reader) const;
+  std::string CounterKey(const Reader& reader) const;  // image, camera_info, cloud; image_<camera>, ...
   void CheckTopicsArrived(int64_t now_utime);
   std::string MissingTopicsMessage(const std::vector<const Reader*>& missing) const;
 
   Ros2InputSettings settings_;
-  std::unique_ptr<Ros2SensorInput> input_;
+  std::vector<CameraInput> cameras_;
+  std::unique_ptr<Ros2SensorInput> cloud_input_;
   dds_entity_t participant_ = 0;
   std::unique_ptr<Ros2Discovery> discovery_;
   std::vector<Reader> readers_;
   std::vector<uint8_t> buffer_;  // one serialized sample, reused
-  int64_t start_utime_ = 0, last_camera_info_utime_ = 0;
+  int64_t start_utime_ = 0;
   bool no_input_ = false;
   long published_images_ = 0, published_scans_ = 0;
   int64_t first_stamp_ = INT64_MAX, last_stamp_ = INT64_MIN;  // of the frames published: the stream's span

@@ -8,18 +8,46 @@
 
 namespace fusecal {
 
-bool Ros2InputSettings::compressed() const {
+bool Ros2CameraTopics::compressed() const {
   const std::string suffix = "/compressed";
   return image_topic.size() > suffix.size() &&
          image_topic.compare(image_topic.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 // image_transport's layout: /cam/image_raw and /cam/image_raw/compressed have /cam/camera_info.
-std::string Ros2InputSettings::CameraInfoTopic() const {
+std::string Ros2CameraTopics::CameraInfoTopic() const {
   if (!camera_info_topic.empty()) return camera_info_topic;
   std::string base = compressed() ? image_topic.substr(0, image_topic.size() - 11) : image_topic;
   const size_t slash = base.rfind('/');
   return (slash == std::string::npos ? std::string() : base.substr(0, slash)) + "/camera_info";
+}
+
+bool Ros2InputSettings::compressed() const { return CameraTopics().front().compressed(); }
+std::string Ros2InputSettings::CameraInfoTopic() const { return CameraTopics().front().CameraInfoTopic(); }
+
+std::vector<Ros2CameraTopics> Ros2InputSettings::CameraTopics() const {
+  if (rig_cameras.front().empty()) return {Ros2CameraTopics{"", image_topic, camera_info_topic, camera_file}};
+  std::vector<Ros2CameraTopics> topics;
+  for (const auto& name : rig_cameras)
+    for (const auto& c : cameras)
+      if (c.name == name) topics.push_back(c);
+  return topics;
+}
+
+std::string Ros2InputSettings::RigProblem() const {
+  if (rig_cameras.front().empty())
+    return cameras.empty() ? "" : "cameras: the rig has one camera without a name (set image_topic instead)";
+  for (const auto& name : rig_cameras) {
+    const auto n =
+        std::count_if(cameras.begin(), cameras.end(), [&](const Ros2CameraTopics& c) { return c.name == name; });
+    if (n != 1)
+      return "cameras: camera " + name + (n ? " is listed twice" : " of the rig has no image_topic here") +
+             " (ros2_input.cameras: [{name: " + name + ", image_topic: /" + name + "/image_raw}, ...])";
+  }
+  for (const auto& c : cameras)
+    if (std::find(rig_cameras.begin(), rig_cameras.end(), c.name) == rig_cameras.end())
+      return "cameras: " + c.name + " is not a camera of the rig";
+  return "";
 }
 
 std::string Ros2InputSettings::Validate() const {
@@ -55,6 +83,19 @@ Ros2InputSettings ReadRos2InputSettings(ConfigReader r) {
   r.Get("topic_timeout_s", &s.topic_timeout_s);
   r.Get("max_message_mb", &s.max_message_mb);
   r.Get("depth", &s.depth);
+  for (ConfigReader& item : r.Items("cameras")) {
+    Ros2CameraTopics c;
+    item.Require("name", &c.name);
+    item.Require<std::string>("image_topic", &c.image_topic,
+                              [](const std::string& t) { return RosTopicProblem("image_topic", t); });
+    item.Get<std::string>("camera_info_topic", &c.camera_info_topic, [](const std::string& t) {
+      return t.empty() ? std::string() : RosTopicProblem("camera_info_topic", t);
+    });
+    item.Get("camera_file", &c.camera_file);
+    item.Finish();
+    if (c.image_topic == s.cloud_topic) item.Fail("image_topic", "must differ from cloud_topic");
+    s.cameras.push_back(c);
+  }
   r.Finish();
   r.FailIfInvalid(domain_problem);
   r.FailIfInvalid(s.Validate());

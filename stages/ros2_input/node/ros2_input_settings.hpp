@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "runtime/config_reader.hpp"
 
@@ -11,6 +12,17 @@ namespace fusecal {
 
 inline constexpr const char* kPointCloud2Type = "sensor_msgs/msg/PointCloud2";
 inline constexpr const char* kLivoxCustomMsgType = "livox_ros_driver2/msg/CustomMsg";  // Livox's own
+
+// One camera's topics.
+struct Ros2CameraTopics {
+  std::string name;               // the camera's on a rig of several (the config's cameras); empty: the one camera
+  std::string image_topic;        // sensor_msgs/Image; ".../compressed": CompressedImage
+  std::string camera_info_topic;  // empty: camera_info beside the image topic or above it
+  std::string camera_file;        // a camera YAML used instead of CameraInfo (empty: none)
+
+  bool compressed() const;              // the image topic carries CompressedImage
+  std::string CameraInfoTopic() const;  // camera_info_topic, or the one derived from the image topic
+};
 
 struct Ros2InputSettings {
   int domain = 0;                                 // ROS_DOMAIN_ID
@@ -23,12 +35,19 @@ struct Ros2InputSettings {
   double max_message_mb = 10;                     // the largest message expected: the socket receive
                                                   // buffer asked of the kernel holds 6 of them
   int depth = 4;                                  // samples kept per topic between takes
+  // A rig of several cameras (the config's cameras): each camera's topics, every camera of the rig once.
+  std::vector<Ros2CameraTopics> cameras;
+  std::vector<std::string> rig_cameras{""};  // the rig's cameras
 
   // Empty when usable, else what is wrong.
   std::string Validate() const;
   bool compressed() const;  // the image topic carries CompressedImage
   bool livox() const { return cloud_type == kLivoxCustomMsgType; }
   std::string CameraInfoTopic() const;  // camera_info_topic, or the one derived from the image topic
+  // The topics of every camera of the rig, in the rig's order: image_topic, ... for the one camera.
+  std::vector<Ros2CameraTopics> CameraTopics() const;
+  // Empty when `cameras` names every camera of the rig once and no other, else what is wrong.
+  std::string RigProblem() const;
 };
 
 Ros2InputSettings ReadRos2InputSettings(ConfigReader section);

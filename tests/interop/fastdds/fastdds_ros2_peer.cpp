@@ -31,6 +31,8 @@ int main(int argc, char** argv) {
   play->add_option("--image-topic", play_options.image_topic);
   play->add_option("--cloud-topic", play_options.cloud_topic);
   play->add_option("--camera-info-topic", play_options.camera_info_topic);
+  play->add_option("--rig-camera", play_options.rig_cameras,
+                   "a camera of a rig's log (repeat for each): CAMERA_IMAGE_<name> on /<name>/image_raw, ...");
   play->add_option("--wait-s", play_options.wait_s, "how long to wait for a reader on every topic");
   play->add_option("--settle-s", play_options.settle_s,
                    "then how long to wait for the readers to match this side (discovery is not symmetric)");

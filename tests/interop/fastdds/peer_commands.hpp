@@ -17,6 +17,9 @@ struct PlayOptions {
   std::string image_topic = "/camera/image_raw";
   std::string cloud_topic = "/lidar/points";
   std::string camera_info_topic = "/camera/camera_info";
+  // A log of a rig of several cameras: each camera's CAMERA_IMAGE_<name> and CAMERA_INFO_<name> on
+  // /<name>/image_raw and /<name>/camera_info (instead of image_topic and camera_info_topic).
+  std::vector<std::string> rig_cameras;
   double wait_s = 20;
   double settle_s = 3;  // after every topic has a reader, before the first message
   double loop_s = 0;    // play the log forward and backward until the stream is this long (LoopedRecording)

@@ -30,15 +30,31 @@ struct Stream {
   long sent = 0;
 };
 
+// One camera of the log: its channels and its two topics.
+struct CameraStreams {
+  std::string name;  // "" for the log's one camera (CAMERA_IMAGE, CAMERA_INFO)
+  Stream info, image;
+  std::optional<CameraParams> camera;  // from the log's CAMERA_INFO(_<name>)
+};
+
 class Player {
  public:
   Player(FastDdsDomain& domain, const PlayOptions& options) : compressed_(options.compressed), livox_(options.livox) {
     const dds::DataWriterQos qos = SensorWriterQos(!options.best_effort);
-    info_ = Make<ros_sensor::CameraInfo_PubSubType>(domain, options.camera_info_topic, qos);
-    if (compressed_)
-      image_ = Make<ros_sensor::CompressedImage_PubSubType>(domain, options.image_topic + "/compressed", qos);
-    else
-      image_ = Make<ros_sensor::Image_PubSubType>(domain, options.image_topic, qos);
+    std::vector<std::pair<std::string, std::pair<std::string, std::string>>> cameras;  // name, (image, info) topics
+    if (options.rig_cameras.empty()) cameras.push_back({"", {options.image_topic, options.camera_info_topic}});
+    for (const auto& name : options.rig_cameras)
+      cameras.push_back({name, {"/" + name + "/image_raw", "/" + name + "/camera_info"}});
+    for (const auto& [name, topics] : cameras) {
+      CameraStreams c;
+      c.name = name;
+      c.info = Make<ros_sensor::CameraInfo_PubSubType>(domain, topics.second, qos);
+      if (compressed_)
+        c.image = Make<ros_sensor::CompressedImage_PubSubType>(domain, topics.first + "/compressed", qos);
+      else
+        c.image = Make<ros_sensor::Image_PubSubType>(domain, topics.first, qos);
+      cameras_.push_back(std::move(c));
+    }
     if (livox_)
       cloud_ = Make<livox_ros_driver2::msg::dds_::CustomMsg_PubSubType>(domain, options.cloud_topic, qos);
     else
@@ -51,7 +67,7 @@ class Player {
     const auto end = Clock::now() + std::chrono::duration<double>(seconds);
     for (;;) {
       missing->clear();
-      for (const Stream* s : {&info_, &image_, &cloud_}) {
+      for (const Stream* s : Streams()) {
         dds::PublicationMatchedStatus status;
         s->writer->get_publication_matched_status(status);
         if (status.current_count == 0) *missing += (missing->empty() ? "" : ", ") + s->topic;
@@ -64,19 +80,23 @@ class Player {
 
   void Send(const LogEvent& event) {
     const int size = static_cast<int>(event.data.size());
-    // The camera model goes out beside every image, stamped like it, as camera drivers publish it.
-    if (event.channel == channels::kCameraInfo.name) {
-      camera_info_t msg{};
-      if (msg.decode(event.data.data(), 0, size) >= 0) camera_ = CameraFromMsg(msg);
-    } else if (event.channel == channels::kCameraImage.name) {
-      image_t msg{};
-      if (msg.decode(event.data.data(), 0, size) < 0) return;
-      if (camera_) {
-        auto info = ToFastDds(ToRosCameraInfo(*camera_, RosHeader{UtimeToRosStamp(msg.utime), "camera"}));
-        Write(info_, &info);
+    for (CameraStreams& c : cameras_) {
+      // The camera model goes out beside every image, stamped like it, as camera drivers publish it.
+      if (event.channel == ForCamera(channels::kCameraInfo, c.name).name) {
+        camera_info_t msg{};
+        if (msg.decode(event.data.data(), 0, size) >= 0) c.camera = CameraFromMsg(msg);
+      } else if (event.channel == ForCamera(channels::kCameraImage, c.name).name) {
+        image_t msg{};
+        if (msg.decode(event.data.data(), 0, size) < 0) return;
+        const std::string frame = c.name.empty() ? "camera" : c.name;
+        if (c.camera) {
+          auto info = ToFastDds(ToRosCameraInfo(*c.camera, RosHeader{UtimeToRosStamp(msg.utime), frame}));
+          Write(c.info, &info);
+        }
+        SendImage(c, msg, frame);
       }
-      SendImage(msg);
-    } else if (event.channel == channels::kLidarScan.name) {
+    }
+    if (event.channel == channels::kLidarScan.name) {
       point_cloud_t msg{};
       if (msg.decode(event.data.data(), 0, size) >= 0) SendCloud(msg);
     }
@@ -87,7 +107,7 @@ class Player {
   bool WaitForAcknowledgments(double seconds, std::string* late) {
     const auto end = Clock::now() + std::chrono::duration<double>(seconds);
     late->clear();
-    for (const Stream* s : {&info_, &image_, &cloud_}) {
+    for (const Stream* s : Streams()) {
       const double left = std::max(0.0, std::chrono::duration<double>(end - Clock::now()).count());
       if (s->writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(left)) !=
           eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK)
@@ -98,7 +118,7 @@ class Player {
 
   std::string Json() const {
     std::string text = "{";
-    for (const Stream* s : {&info_, &image_, &cloud_})
+    for (const Stream* s : Streams())
       text += std::string(text.size() > 1 ? ", " : "") + "\"" + s->topic + "\": " + std::to_string(s->sent);
     return text + "}";
   }
@@ -120,11 +140,11 @@ class Player {
     }
   }
 
-  void SendImage(const image_t& msg) {
-    const RosHeader header{UtimeToRosStamp(msg.utime), "camera"};
+  void SendImage(CameraStreams& c, const image_t& msg, const std::string& frame) {
+    const RosHeader header{UtimeToRosStamp(msg.utime), frame};
     if (!compressed_) {
       auto out = ToFastDds(ToRosImage(ImageToMat(msg), header));
-      Write(image_, &out);
+      Write(c.image, &out);
       return;
     }
     // jpeg and png pass through as they are; raw images become png (lossless).
@@ -135,7 +155,14 @@ class Player {
       encoding = "png";
     }
     auto out = ToFastDds(ToRosCompressedImage(bytes, encoding, header));
-    Write(image_, &out);
+    Write(c.image, &out);
+  }
+
+  std::vector<const Stream*> Streams() const {
+    std::vector<const Stream*> streams;
+    for (const CameraStreams& c : cameras_) streams.insert(streams.end(), {&c.info, &c.image});
+    streams.push_back(&cloud_);
+    return streams;
   }
 
   static void Write(Stream& s, void* sample) {
@@ -144,8 +171,8 @@ class Player {
   }
 
   bool compressed_, livox_;
-  std::optional<CameraParams> camera_;  // from the log's CAMERA_INFO
-  Stream info_, image_, cloud_;
+  std::vector<CameraStreams> cameras_;
+  Stream cloud_;
 };
 
 double UnixNowS() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }

@@ -188,6 +188,29 @@ TEST(PipelineConfig, TheRigsCamerasReachEveryStageThatNeedsThem) {
   EXPECT_EQ(StageRig("", "", true).camera, "");  // no config: one camera without a name
 }
 
+// The ROS 2 input of a rig: every camera of the rig has its topics, and no other camera.
+TEST(PipelineConfig, TheRos2InputOfARigNamesEveryCameraOnce) {
+  Ros2InputSettings s =
+      ReadRos2InputSettings(ConfigReader::FromString("ros2_input: {cameras: [{name: left, image_topic: "
+                                                     "/left/image_raw}, {name: right, image_topic: /r/compressed}]}")
+                                .Child("ros2_input"));
+  s.rig_cameras = {"left", "right"};
+  EXPECT_EQ(s.RigProblem(), "");
+  const auto topics = s.CameraTopics();
+  ASSERT_EQ(topics.size(), 2u);
+  EXPECT_EQ(topics[0].CameraInfoTopic(), "/left/camera_info");
+  EXPECT_TRUE(topics[1].compressed());
+  s.rig_cameras = {"left", "right", "rear"};
+  EXPECT_NE(s.RigProblem().find("camera rear of the rig has no image_topic here"), std::string::npos) << s.RigProblem();
+  s.rig_cameras = {"left"};
+  EXPECT_NE(s.RigProblem().find("right is not a camera of the rig"), std::string::npos) << s.RigProblem();
+  s.rig_cameras = {""};
+  EXPECT_NE(s.RigProblem().find("one camera without a name"), std::string::npos) << s.RigProblem();
+  EXPECT_NE(ErrorOf("ros2_input", "cameras: [{name: a, image_topic: 'no topic'}]", kRos2Input)
+                .find("ros2_input.cameras[0].image_topic"),
+            std::string::npos);
+}
+
 TEST(PipelineConfig, BadCameraNamesAreNamedWithTheirEntry) {
   const std::pair<std::string, std::string> cases[] = {
       {"cameras: [{name: front}, {name: front}]", "'front' names two cameras"},
