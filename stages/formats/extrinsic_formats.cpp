@@ -144,6 +144,84 @@ const std::vector<std::string>& ExportFormats() {
   return formats;
 }
 
+std::string ExportRig(const RigResult& rig, const std::string& format, const ExportFrames& frames) {
+  ExportExtrinsic(CalibrationResult{}, format, frames);  // the same checks of the format and frame names
+  std::ostringstream out;
+  out.precision(12);
+  if (format == "kitti") {
+    out << "calib_time: exported by fusecal (per camera: p_camera = R_<camera> * p_lidar + T_<camera>)\n";
+    for (const auto& c : rig.cameras) {
+      const Eigen::Matrix3d R = c.T_camera_lidar.linear();
+      out << "R_" << c.camera << ":";
+      for (int i = 0; i < 9; ++i) out << " " << R(i / 3, i % 3);
+      out << "\nT_" << c.camera << ":";
+      for (int i = 0; i < 3; ++i) out << " " << c.T_camera_lidar.translation()[i];
+      out << "\n";
+    }
+    return out.str();
+  }
+  if (format == "ros-static-tf" || format == "urdf") {
+    if (format == "urdf")
+      out << "<?xml version=\"1.0\"?>\n<!-- A rig calibrated by fusecal: the pose of each camera's optical frame (x "
+             "right, y "
+             "down, z forward)\n     in the LiDAR frame. -->\n<robot name=\"fusecal_rig\">\n  <link name=\""
+          << frames.child << "\"/>\n";
+    for (const auto& c : rig.cameras) {
+      ExportExtrinsic(CalibrationResult{}, format, ExportFrames{c.camera, frames.child});  // the camera's name
+      const Isometry3 T = c.T_camera_lidar.inverse();                                      // T_lidar_camera
+      const Eigen::Vector3d t = T.translation();
+      if (format == "ros-static-tf") {
+        const Eigen::Quaterniond q(T.linear());
+        out << t.x() << " " << t.y() << " " << t.z() << " " << q.x() << " " << q.y() << " " << q.z() << " " << q.w()
+            << " " << frames.child << " " << c.camera << "\n";
+        continue;
+      }
+      const Eigen::Vector3d rpy = RpyFromRotation(T.linear());
+      out << "  <link name=\"" << c.camera << "\"/>\n  <joint name=\"" << frames.child << "_to_" << c.camera
+          << "\" type=\"fixed\">\n    <parent link=\"" << frames.child << "\"/>\n    <child link=\"" << c.camera
+          << "\"/>\n    <origin xyz=\"" << t.x() << " " << t.y() << " " << t.z() << "\" rpy=\"" << rpy.x() << " "
+          << rpy.y() << " " << rpy.z() << "\"/>\n  </joint>\n";
+    }
+    if (format == "urdf") out << "</robot>\n";
+    return out.str();
+  }
+  const auto std_json = [](const std::optional<Matrix6>& covariance) {
+    if (!covariance) return nlohmann::ordered_json();
+    const Eigen::Vector3d sr = RotationStdDevDeg(*covariance), st = TranslationStdDevM(*covariance);
+    return nlohmann::ordered_json{{"rotation_deg", {sr.x(), sr.y(), sr.z()}},
+                                  {"translation_m", {st.x(), st.y(), st.z()}}};
+  };
+  if (format == "json") {
+    nlohmann::ordered_json j;
+    for (const auto& c : rig.cameras) {
+      double m[16];
+      ToRowMajor(c.T_camera_lidar, m);
+      j["T_" + c.camera + "_lidar"] = {
+          {"T", std::vector<double>(m, m + 16)}, {"std_dev", std_json(c.covariance)}, {"status", c.status}};
+    }
+    for (const auto& c : rig.camera_to_camera) {
+      double m[16];
+      ToRowMajor(c.T, m);
+      j["T_" + c.to + "_" + c.from] = {{"T", std::vector<double>(m, m + 16)}, {"std_dev", std_json(c.covariance)}};
+    }
+    return j.dump(2) + "\n";
+  }
+  cv::FileStorage fs(".yaml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);  // opencv-yaml
+  const auto write = [&fs](const std::string& name, const Isometry3& T, const std::optional<Matrix6>& covariance) {
+    cv::Mat M;
+    cv::eigen2cv(Eigen::Matrix4d(T.matrix()), M);
+    fs << name << M;
+    if (!covariance) return;
+    cv::Mat sr, st;
+    cv::eigen2cv(Eigen::Vector3d(RotationStdDevDeg(*covariance)), sr);
+    cv::eigen2cv(Eigen::Vector3d(TranslationStdDevM(*covariance)), st);
+    fs << name + "_std_dev_rotation_deg" << sr << name + "_std_dev_translation_m" << st;
+  };
+  for (const auto& c : rig.cameras) write("T_" + c.camera + "_lidar", c.T_camera_lidar, c.covariance);
+  for (const auto& c : rig.camera_to_camera) write("T_" + c.to + "_" + c.from, c.T, c.covariance);
+  return fs.releaseAndGetString();
+}
+
 std::string ExportExtrinsic(const CalibrationResult& result, const std::string& format, const ExportFrames& frames) {
   CheckFrameName(frames.parent);
   CheckFrameName(frames.child);

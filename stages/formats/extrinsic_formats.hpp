@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "stages/formats/result_file.hpp"
+#include "stages/formats/rig_file.hpp"
 
 namespace fusecal {
 
@@ -28,6 +29,14 @@ struct ExportFrames {
 // quote, '<', '>' or '&'.
 std::string ExportExtrinsic(const CalibrationResult& result, const std::string& format,
                             const ExportFrames& frames = {});
+
+// A rig of several cameras, one transform per camera. A tree has one parent per frame, so the LiDAR
+// (frames.child) is the parent and each camera's frame is named as the camera: ros-static-tf gives one
+// line "x y z qx qy qz qw lidar <camera>" per camera and urdf one joint lidar -> <camera> each (the pose
+// of the camera in the LiDAR frame, T_lidar_camera); kitti gives R_<camera> and T_<camera> per camera
+// (p_camera = R p_lidar + T), json and opencv-yaml every T_<camera>_lidar with its std and the derived
+// camera-to-camera transforms. Throws std::invalid_argument as ExportExtrinsic does.
+std::string ExportRig(const RigResult& rig, const std::string& format, const ExportFrames& frames = {});
 
 // Parses text produced by ExportExtrinsic (or written by hand in that format). Throws
 // std::runtime_error saying what is missing or malformed.

@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <urdf_parser/urdf_parser.h>
+
+#include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -106,6 +108,42 @@ TEST(ExportFormats, UrdfdomReadsTheJointAsTheExtrinsic) {
     EXPECT_LT((t - r.T_camera_lidar.translation()).norm(), 1e-12);
     EXPECT_EQ(model->getRoot()->name, "cam_front_optical");
   }
+}
+
+// A rig: the LiDAR is the root and each camera a child, its joint the camera's pose in the LiDAR frame.
+TEST(ExportFormats, ARigIsOneTreeWithAJointPerCamera) {
+  std::vector<RigCameraResult> cameras(2);
+  cameras[0].camera = "left";
+  cameras[0].T_camera_lidar = MakeIsometry(RotationFromRpy(-2.2, -1.52, -2.5), {0.06, 0.1, -0.07});
+  cameras[1].camera = "right";
+  cameras[1].T_camera_lidar = MakeIsometry(RotationFromRpy(-2.3, -1.53, -2.4), {-0.06, 0.1, -0.07});
+  const RigResult rig = MakeRigResult(cameras);
+  const std::string text = ExportRig(rig, "urdf", {"unused", "velodyne"});
+  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text);
+  ASSERT_TRUE(model) << text;
+  EXPECT_EQ(model->getRoot()->name, "velodyne");
+  for (const auto& c : rig.cameras) {
+    const urdf::JointConstSharedPtr joint = model->getJoint("velodyne_to_" + c.camera);
+    ASSERT_TRUE(joint) << text;
+    EXPECT_EQ(joint->child_link_name, c.camera);
+    const urdf::Pose& pose = joint->parent_to_joint_origin_transform;
+    double x, y, z, w;
+    pose.rotation.getQuaternion(x, y, z, w);
+    const Isometry3 T_lidar_camera = c.T_camera_lidar.inverse();
+    EXPECT_LT(RotationErrorDeg(Eigen::Quaterniond(w, x, y, z).toRotationMatrix(), T_lidar_camera.linear()), 1e-7);
+    EXPECT_LT(
+        (Eigen::Vector3d(pose.position.x, pose.position.y, pose.position.z) - T_lidar_camera.translation()).norm(),
+        1e-12);
+  }
+  const std::string tf = ExportRig(rig, "ros-static-tf", {"unused", "velodyne"});
+  EXPECT_EQ(std::count(tf.begin(), tf.end(), '\n'), 2) << tf;
+  EXPECT_NE(tf.find(" velodyne right\n"), std::string::npos) << tf;
+  const std::string kitti = ExportRig(rig, "kitti");
+  EXPECT_NE(kitti.find("\nR_left:"), std::string::npos) << kitti;
+  EXPECT_NE(kitti.find("\nT_right:"), std::string::npos) << kitti;
+  for (const std::string format : {"json", "opencv-yaml"})
+    EXPECT_NE(ExportRig(rig, format).find("T_right_left"), std::string::npos) << format;
+  EXPECT_THROW(ExportRig(rig, "csv"), std::invalid_argument);
 }
 
 TEST(Commands, EvaluateAndExport) {

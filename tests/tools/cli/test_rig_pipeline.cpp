@@ -72,8 +72,14 @@ TEST_F(RigPipeline, CalibrateCalibratesEveryCameraAndTheCameraToCameraAgreesWith
   const auto& pair = j["camera_to_camera"]["right_left"];
   EXPECT_LT(pair["max_err_in_std"].get<double>(), 3.0) << j.dump();
   EXPECT_GT(pair["trans_std_m"].get<double>(), 0.0);
-  // The result file of one camera's tools names where each camera's is.
-  const auto one = RunCommand(kFusecal + " export " + Temp("cal") + "/extrinsic.yaml --format json 2>&1");
+  // Exported, one transform per camera; a tool that takes one camera's result says where each camera's is.
+  const auto exported = RunCommand(kFusecal + " export " + Temp("cal") + "/extrinsic.yaml --format json 2>&1");
+  ASSERT_EQ(exported.exit_code, 0) << exported.output;
+  const auto json = nlohmann::json::parse(exported.output);
+  EXPECT_EQ(json["T_right_lidar"]["status"], "converged") << exported.output;
+  EXPECT_EQ(json["T_right_left"]["T"].size(), 16u) << exported.output;
+  const auto one = RunCommand(kFusecal + " evaluate --result " + Temp("cal") + "/left/extrinsic.yaml --truth " +
+                              Temp("cal") + "/extrinsic.yaml 2>&1");
   EXPECT_NE(one.exit_code, 0);
   EXPECT_NE(one.output.find("<camera>/extrinsic.yaml"), std::string::npos) << one.output;
 }
