@@ -68,7 +68,10 @@ class StationPairNode : public StageNode {
       current = Prepare(station);
     } catch (const std::exception& e) {
       AnswerBadStation(bus, station, e.what());
-      throw std::runtime_error("station " + std::to_string(station.id) + ": " + e.what());
+      // On a rig of several cameras, which camera's image it was.
+      const std::string camera =
+          sensor_ == "camera" && !station.camera.name.empty() ? "camera " + station.camera.name + ", " : "";
+      throw std::runtime_error(camera + "station " + std::to_string(station.id) + ": " + e.what());
     }
     // Motions go from lower to higher ids, whatever the order of arrival (after a restart a station may
     // come before the ones it follows); the k highest ids are kept for pairing.
