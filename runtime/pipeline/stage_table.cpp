@@ -1,5 +1,6 @@
 #include "runtime/pipeline/stage_table.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <iomanip>
 #include <sstream>
@@ -39,12 +40,14 @@ std::string WriteStageTable(const std::string& dir, const StageCounters& stages,
 std::string StageTableText(const StageCounters& stages, double span_s) {
   std::ostringstream out;
   char line[256];
+  int width = 16;  // the longest name (a rig's per-camera stages: camera_frontend/<camera>)
+  for (const auto& entry : stages) width = std::max(width, static_cast<int>(entry.first.size()));
   for (const auto& [stage, c] : stages) {
     const double busy = StageCounter(c, "busy_s");
     std::snprintf(line, sizeof(line),
-                  "  %-16s %5.0f items, %8.2f ms mean, %8.2f ms p95, %7.2f s busy, %4.0f skipped, "
+                  "  %-*s %5.0f items, %8.2f ms mean, %8.2f ms p95, %7.2f s busy, %4.0f skipped, "
                   "realtime factor %.3f\n",
-                  stage.c_str(), StageCounter(c, "items"), StageCounter(c, "item_ms_mean"),
+                  width, stage.c_str(), StageCounter(c, "items"), StageCounter(c, "item_ms_mean"),
                   StageCounter(c, "item_ms_p95"), busy, StageCounter(c, "skipped"), span_s > 0 ? busy / span_s : 0.0);
     out << line;
   }

@@ -46,8 +46,10 @@ OrderedJson ToJson(const point_cloud_t& m, bool full) {
 }
 
 OrderedJson ToJson(const camera_info_t& m, bool) {
-  return {{"utime", m.utime}, {"model", m.model}, {"width", m.width}, {"height", m.height},   {"fx", m.fx},
-          {"fy", m.fy},       {"cx", m.cx},       {"cy", m.cy},       {"dist", Fixed(m.dist)}};
+  OrderedJson j{{"utime", m.utime}, {"model", m.model}, {"width", m.width}, {"height", m.height},   {"fx", m.fx},
+                {"fy", m.fy},       {"cx", m.cx},       {"cy", m.cy},       {"dist", Fixed(m.dist)}};
+  if (!m.name.empty()) j["name"] = m.name;  // a camera of a rig of several
+  return j;
 }
 
 OrderedJson ToJson(const station_t& m, bool full) {
@@ -78,30 +80,32 @@ OrderedJson ToJson(const motion_set_t& m, bool full) {
 }
 
 OrderedJson ToJson(const extrinsic_t& m, bool) {
-  return {{"utime", m.utime},
-          {"version", m.version},
-          {"T_camera_lidar", Fixed(m.T_camera_lidar)},
-          {"covariance", Fixed(m.covariance)},
-          {"status", ExtrinsicStatusName(m.status)},
-          {"observability", ObservabilityName(m.observability)},
-          {"unobservable_direction", Fixed(m.unobservable_direction)},
-          {"converged", m.converged},
-          {"scaled", m.scaled},
-          {"iteration", m.iteration},
-          {"change_rotation_rad", m.change_rotation_rad},
-          {"change_translation_m", m.change_translation_m},
-          {"residual_rms", m.residual_rms},
-          {"num_used", m.num_used},
-          {"used_station_i", m.used_station_i},
-          {"used_station_j", m.used_station_j},
-          {"num_rejected", m.num_rejected},
-          {"rejected_station_i", m.rejected_station_i},
-          {"rejected_station_j", m.rejected_station_j},
-          {"message", m.message},
-          {"num_changes", m.num_changes},
-          {"change_after_station", m.change_after_station},
-          {"change_decided_at_station", m.change_decided_at_station},
-          {"change_T_before", m.change_T_before}};
+  OrderedJson j{{"utime", m.utime},
+                {"version", m.version},
+                {"T_camera_lidar", Fixed(m.T_camera_lidar)},
+                {"covariance", Fixed(m.covariance)},
+                {"status", ExtrinsicStatusName(m.status)},
+                {"observability", ObservabilityName(m.observability)},
+                {"unobservable_direction", Fixed(m.unobservable_direction)},
+                {"converged", m.converged},
+                {"scaled", m.scaled},
+                {"iteration", m.iteration},
+                {"change_rotation_rad", m.change_rotation_rad},
+                {"change_translation_m", m.change_translation_m},
+                {"residual_rms", m.residual_rms},
+                {"num_used", m.num_used},
+                {"used_station_i", m.used_station_i},
+                {"used_station_j", m.used_station_j},
+                {"num_rejected", m.num_rejected},
+                {"rejected_station_i", m.rejected_station_i},
+                {"rejected_station_j", m.rejected_station_j},
+                {"message", m.message},
+                {"num_changes", m.num_changes},
+                {"change_after_station", m.change_after_station},
+                {"change_decided_at_station", m.change_decided_at_station},
+                {"change_T_before", m.change_T_before}};
+  if (!m.camera.empty()) j["camera"] = m.camera;  // T_<camera>_lidar of a rig of several
+  return j;
 }
 
 OrderedJson ToJson(const status_t& m, bool) {
