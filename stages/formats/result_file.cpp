@@ -10,6 +10,7 @@
 
 #include "runtime/output_file.hpp"
 #include "runtime/strict_yaml.hpp"
+#include "stages/formats/yaml_transform.hpp"
 #include "stages/foundation/observed_covariance.hpp"
 
 namespace fusecal {
@@ -135,6 +136,27 @@ void WriteResultFile(const std::string& path, const CalibrationResult& result, c
   WriteFileChecked(path, ResultToYaml(result, initial));
 }
 
+Isometry3 ReadYamlTransform(const YAML::Node& root, const std::string& key, const std::string& path) {
+  const YAML::Node matrix = root.IsMap() ? root[key] : YAML::Node();
+  if (!matrix || !matrix.IsSequence() || matrix.size() != 16)
+    throw std::runtime_error(path + ": '" + key + "' must be a list of 16 numbers (row-major 4x4)");
+  double m[16];
+  try {
+    for (int i = 0; i < 16; ++i) m[i] = matrix[i].as<double>();
+  } catch (const YAML::Exception&) {
+    throw std::runtime_error(path + ": '" + key + "' holds something that is not a number");
+  }
+  Eigen::Matrix4d M;
+  for (int i = 0; i < 16; ++i) M(i / 4, i % 4) = m[i];
+  Isometry3 raw;
+  raw.matrix() = M;
+  if (!IsValidTransform(raw, 1e-4) || std::abs(M(3, 3) - 1) > 1e-9 || M.row(3).head<3>().norm() > 1e-9)
+    throw std::runtime_error(path + ": '" + key +
+                             "' is not a rigid transform (rotation not orthonormal, non-finite, or last row not "
+                             "0 0 0 1)");
+  return FromRowMajor(m);
+}
+
 CalibrationResult ReadResultFile(const std::string& path) {
   YAML::Node root;
   try {
@@ -142,29 +164,12 @@ CalibrationResult ReadResultFile(const std::string& path) {
   } catch (const YamlError& e) {
     throw std::runtime_error(std::string("result file ") + e.what());
   }
-  const YAML::Node matrix = root.IsMap() ? root["T_camera_lidar"] : YAML::Node();
-  if (!matrix && root.IsMap() && root["cameras"])
+  if (root.IsMap() && !root["T_camera_lidar"] && root["cameras"])
     throw std::runtime_error(path +
                              " is the result of a rig of several cameras (T_<camera>_lidar): give one camera's, "
                              "<camera>/extrinsic.yaml beside it");
-  if (!matrix || !matrix.IsSequence() || matrix.size() != 16)
-    throw std::runtime_error(path + ": 'T_camera_lidar' must be a list of 16 numbers (row-major 4x4)");
-  double m[16];
-  try {
-    for (int i = 0; i < 16; ++i) m[i] = matrix[i].as<double>();
-  } catch (const YAML::Exception&) {
-    throw std::runtime_error(path + ": 'T_camera_lidar' holds something that is not a number");
-  }
-  Eigen::Matrix4d M;
-  for (int i = 0; i < 16; ++i) M(i / 4, i % 4) = m[i];
-  Isometry3 raw;
-  raw.matrix() = M;
-  if (!IsValidTransform(raw, 1e-4) || std::abs(M(3, 3) - 1) > 1e-9 || M.row(3).head<3>().norm() > 1e-9)
-    throw std::runtime_error(path +
-                             ": 'T_camera_lidar' is not a rigid transform (rotation not "
-                             "orthonormal, non-finite, or last row not 0 0 0 1)");
   CalibrationResult result;
-  result.T_camera_lidar = FromRowMajor(m);
+  result.T_camera_lidar = ReadYamlTransform(root, "T_camera_lidar", path);
   auto read_string = [&](const char* key, std::string* out) {
     if (root[key] && root[key].IsScalar()) *out = root[key].as<std::string>();
   };

@@ -6,6 +6,7 @@
 
 #include "runtime/output_file.hpp"
 #include "runtime/strict_yaml.hpp"
+#include "stages/formats/yaml_transform.hpp"
 
 namespace fusecal {
 
@@ -53,24 +54,6 @@ void EmitTransform(YAML::Emitter& out, const std::string& name, const Isometry3&
 }
 
 std::string Where(const std::string& path, const std::string& key) { return path + ": '" + key + "'"; }
-
-Isometry3 ReadTransform(const YAML::Node& root, const std::string& key, const std::string& path) {
-  const YAML::Node matrix = root[key];
-  if (!matrix || !matrix.IsSequence() || matrix.size() != 16)
-    throw std::runtime_error(Where(path, key) + " must be a list of 16 numbers (row-major 4x4)");
-  double m[16];
-  Eigen::Matrix4d M;
-  try {
-    for (int i = 0; i < 16; ++i) M(i / 4, i % 4) = m[i] = matrix[i].as<double>();
-  } catch (const YAML::Exception&) {
-    throw std::runtime_error(Where(path, key) + " holds something that is not a number");
-  }
-  Isometry3 raw;
-  raw.matrix() = M;
-  if (!IsValidTransform(raw, 1e-4) || M.row(3).head<3>().norm() > 1e-9 || std::abs(M(3, 3) - 1) > 1e-9)
-    throw std::runtime_error(Where(path, key) + " is not a rigid transform");
-  return FromRowMajor(m);
-}
 
 std::optional<Matrix6> ReadCovariance(const YAML::Node& root, const std::string& key) {
   const YAML::Node c = root[key];
@@ -168,7 +151,7 @@ RigResult ReadRigFile(const std::string& path) {
     RigCameraResult c;
     c.camera = n.as<std::string>("");
     const std::string name = "T_" + c.camera + "_lidar";
-    c.T_camera_lidar = ReadTransform(root, name, path);
+    c.T_camera_lidar = ReadYamlTransform(root, name, path);
     c.covariance = ReadCovariance(root, name + "_covariance");
     if (root[name + "_status"] && root[name + "_status"].IsScalar())
       c.status = root[name + "_status"].as<std::string>();

@@ -1,11 +1,15 @@
 // Helpers shared by the simulator tests.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cmath>
+#include <functional>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
+#include "runtime/config_reader.hpp"
 #include "runtime/sim/simulator/lidar.hpp"
 #include "runtime/sim/simulator/scenario.hpp"
 #include "stages/foundation/camera_model.hpp"
@@ -14,6 +18,25 @@ namespace fusecal::testing {
 
 inline std::string ScenarioPath(const std::string& name) {
   return std::string(FUSECAL_SOURCE_DIR) + "/configs/scenarios/" + name;
+}
+
+// `text` with the first `from` replaced by `to`; a test failure when `text` has none.
+inline std::string ReplaceFirst(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << "test setup: '" << from << "' not in the text";
+  if (pos != std::string::npos) text.replace(pos, from.size(), to);
+  return text;
+}
+
+// Expects `load(text)` to throw a ConfigError whose message contains `key`.
+inline void ExpectConfigErrorNaming(const std::function<void(const std::string&)>& load, const std::string& text,
+                                    const std::string& key) {
+  try {
+    load(text);
+    ADD_FAILURE() << "accepted a bad scenario; expected an error naming " << key;
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << "message: " << e.what();
+  }
 }
 
 inline double Pearson(const std::vector<double>& a, const std::vector<double>& b) {

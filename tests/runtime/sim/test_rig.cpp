@@ -26,21 +26,11 @@ std::string ReadFile(const std::string& path) {
   return ss.str();
 }
 
-std::string Replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << "test setup: '" << from << "' not in the text";
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
+const auto Replace = testing::ReplaceFirst;
 
 // Expects ParseScenario(text) to throw a ConfigError whose message contains `key`.
 void ExpectErrorNaming(const std::string& text, const std::string& key) {
-  try {
-    ParseScenario(text);
-    ADD_FAILURE() << "accepted a bad scenario; expected an error naming " << key;
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << "message: " << e.what();
-  }
+  testing::ExpectConfigErrorNaming([](const std::string& t) { ParseScenario(t); }, text, key);
 }
 
 bool SameBytes(const cv::Mat& a, const cv::Mat& b) {

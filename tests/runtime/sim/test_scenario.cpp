@@ -28,21 +28,11 @@ Scenario LoadText(const std::string& text) {
   return LoadScenario(path);
 }
 
-std::string Replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  EXPECT_NE(pos, std::string::npos) << "test setup: '" << from << "' not in the base scenario";
-  if (pos != std::string::npos) text.replace(pos, from.size(), to);
-  return text;
-}
+const auto Replace = testing::ReplaceFirst;
 
 // Expects LoadText(text) to throw a ConfigError whose message contains `key`.
 void ExpectErrorNaming(const std::string& text, const std::string& key) {
-  try {
-    LoadText(text);
-    ADD_FAILURE() << "accepted a bad scenario; expected an error naming " << key;
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << "message: " << e.what();
-  }
+  testing::ExpectConfigErrorNaming([](const std::string& t) { LoadText(t); }, text, key);
 }
 
 class SimBadScenario : public ::testing::Test {
