@@ -98,17 +98,22 @@ Channel<M> ForCamera(const Channel<M>& channel, const std::string& camera) {
   return Channel<M>{name.c_str(), channel.kind, channel.large};
 }
 
+// The pipeline channel that `name` is a camera's own of (STATION for STATION_front), or nullptr.
+inline const char* PerCameraChannelOf(const std::string& name) {
+  for (const char* per_camera : kPerCameraChannels) {
+    const size_t length = std::char_traits<char>::length(per_camera);
+    if (name.size() > length + 1 && name.compare(0, length, per_camera) == 0 && name[length] == '_') return per_camera;
+  }
+  return nullptr;
+}
+
 // The pipeline channel called `name`, or nullptr; a camera's own channel (STATION_front) is its
 // pipeline channel's (STATION).
 inline const ChannelTraits* FindPipelineChannel(const std::string& name) {
+  const char* per_camera = PerCameraChannelOf(name);
+  const std::string pipeline_name = per_camera ? per_camera : name;
   for (const auto& channel : kPipelineChannels)
-    if (name == channel.name) return &channel;
-  for (const char* per_camera : kPerCameraChannels) {
-    const std::string prefix = std::string(per_camera) + "_";
-    if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0)
-      for (const auto& channel : kPipelineChannels)
-        if (std::string(per_camera) == channel.name) return &channel;
-  }
+    if (pipeline_name == channel.name) return &channel;
   return nullptr;
 }
 
@@ -122,11 +127,8 @@ inline bool IsPipelineChannel(const std::string& name) { return FindPipelineChan
 
 // The camera whose own channel `name` is ("front" for STATION_front); "" for any other channel.
 inline std::string CameraOfChannel(const std::string& name) {
-  for (const char* per_camera : kPerCameraChannels) {
-    const std::string prefix = std::string(per_camera) + "_";
-    if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0) return name.substr(prefix.size());
-  }
-  return "";
+  const char* per_camera = PerCameraChannelOf(name);
+  return per_camera ? name.substr(std::char_traits<char>::length(per_camera) + 1) : "";
 }
 
 // The pipeline channel a channel is, whichever camera's: "STATION" for STATION and STATION_front; "" for a

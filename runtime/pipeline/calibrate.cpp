@@ -100,13 +100,10 @@ CalibrateReport RunCalibrate(const std::string& log_path, const std::string& out
       progress("the log's cameras: " + names + " (each calibrated; " + named.front() + " decides the stations)");
   }
   // One record per camera; the first writes the session log (the stations: the input log has the raw frames).
-  std::vector<std::unique_ptr<SessionRecord>> records;
+  std::vector<std::unique_ptr<SessionRecord>> records =
+      MakeSessionRecords(*bus, out_dir, RecordSettings{}, in_process.cameras);
   std::vector<const SessionRecord*> sessions;
-  for (const std::string& camera : in_process.cameras) {
-    records.push_back(std::make_unique<SessionRecord>(
-        *bus, out_dir, records.empty() ? RecordSettings{} : RecordSettings{"none"}, camera));
-    sessions.push_back(records.back().get());
-  }
+  for (const auto& record : records) sessions.push_back(record.get());
   const SessionRecord& session = *records.front();
   std::vector<NamedNode> nodes = MakeStageNodes(in_process, use_detector);
   for (auto& n : nodes) n.node->Start(*bus);

@@ -131,7 +131,7 @@ class PipelineRun {
         // (shm_transport.hpp).
         transport_(url_, config.max_message_bytes, config.shm_chunks, options.out_dir, event),
         bus_(MakeBus(transport_.coordinator_url())),
-        records_(MakeRecords(*bus_, options.out_dir, config.record, config.cameras)),
+        records_(MakeSessionRecords(*bus_, options.out_dir, config.record, config.cameras)),
         session_(*records_.front()),
         sessions_(Pointers(records_)),
         watch_(*bus_, config.cameras),
@@ -165,16 +165,6 @@ class PipelineRun {
     return report;
   }
 
-  // One session record per camera; the first writes the session log.
-  static std::vector<std::unique_ptr<SessionRecord>> MakeRecords(Bus& bus, const std::string& dir,
-                                                                 const RecordSettings& record,
-                                                                 const std::vector<std::string>& cameras) {
-    std::vector<std::unique_ptr<SessionRecord>> records;
-    for (const auto& camera : cameras)
-      records.push_back(
-          std::make_unique<SessionRecord>(bus, dir, records.empty() ? record : RecordSettings{"none"}, camera));
-    return records;
-  }
   static std::vector<const SessionRecord*> Pointers(const std::vector<std::unique_ptr<SessionRecord>>& records) {
     std::vector<const SessionRecord*> pointers;
     for (const auto& r : records) pointers.push_back(r.get());
@@ -259,17 +249,20 @@ class PipelineRun {
   }
 
   void WriteConvergedRig() {
-    std::vector<RigCameraResult> cameras;
+    // Called at every pump of the bus: nothing is built unless a camera has a newer converged version.
+    std::string versions;
     for (const SessionRecord* session : sessions_) {
       const extrinsic_t* e = session->Final();
       if (!e || e->status != extrinsic_t::STATUS_CONVERGED) return;
-      const CalibrationResult result = ResultFromMessage(*e);
-      cameras.push_back({session->camera(), result.T_camera_lidar, result.covariance, result.status, ""});
+      versions += std::to_string(e->version) + ",";
     }
-    std::string versions;
-    for (const SessionRecord* session : sessions_) versions += std::to_string(session->Final()->version) + ",";
     if (versions == written_rig_versions_) return;
     written_rig_versions_ = versions;
+    std::vector<RigCameraResult> cameras;
+    for (const SessionRecord* session : sessions_) {
+      const CalibrationResult result = ResultFromMessage(*session->Final());
+      cameras.push_back({session->camera(), result.T_camera_lidar, result.covariance, result.status, ""});
+    }
     try {
       WriteRigFile(options_.out_dir + "/extrinsic.yaml", MakeRigResult(cameras));
       event_("every camera converged: written to " + options_.out_dir + "/extrinsic.yaml");

@@ -105,6 +105,16 @@ const extrinsic_t* SessionRecord::Initial() const {
   return nullptr;
 }
 
+std::vector<std::unique_ptr<SessionRecord>> MakeSessionRecords(Bus& bus, const std::string& dir,
+                                                               const RecordSettings& record,
+                                                               const std::vector<std::string>& cameras) {
+  std::vector<std::unique_ptr<SessionRecord>> records;
+  for (const auto& camera : cameras)
+    records.push_back(
+        std::make_unique<SessionRecord>(bus, dir, records.empty() ? record : RecordSettings{"none"}, camera));
+  return records;
+}
+
 bool LogHasStations(const std::string& log_path) {
   LogReader reader(log_path);
   for (int i = 0; i < 500; ++i) {

@@ -95,6 +95,11 @@ class SessionRecord {
   std::map<std::string, std::map<std::string, double>> stage_counters_;
 };
 
+// One record per camera of the rig, the first writing the session log as `record` says.
+std::vector<std::unique_ptr<SessionRecord>> MakeSessionRecords(Bus& bus, const std::string& dir,
+                                                               const RecordSettings& record,
+                                                               const std::vector<std::string>& cameras);
+
 // True when the log carries STATION messages among its first 500 events (a stop-and-scan dataset or
 // `simulate --stations-only`); then the pipeline takes them instead of running the detector.
 bool LogHasStations(const std::string& log_path);
