@@ -162,6 +162,9 @@ class Calibrator {
   // their camera motion: scaleless on arrival, metric in fusion odometry's answer.
   std::set<StationPair> tested_scaleless_, tested_metric_;
   std::optional<HandEyeResult> reference_;  // what new pairs are tested against
+  // What a new pair would be tested against now: the scaled estimate, or the scaleless one while the scaled
+  // one is rotation-degenerate.
+  const HandEyeResult* Reference() const;
   std::vector<ExtrinsicChange> changes_;
   std::optional<int> segment_after_;  // pairs that start at or before this station belong to the past
   std::string note_;                  // said in the next version's message (a change)
