@@ -14,6 +14,8 @@ namespace fusecal {
 std::string ChangeDetectionSettings::Validate() const {
   if (!(off_probability > 0 && off_probability < 0.5)) return "off_probability: must be in (0, 0.5)";
   if (!(confirm_probability > 0 && confirm_probability < 0.5)) return "confirm_probability: must be in (0, 0.5)";
+  if (!(directed_confirm_probability > 0 && directed_confirm_probability < 0.5))
+    return "directed_confirm_probability: must be in (0, 0.5)";
   if (window < 2 || window > 100) return "window: must be in [2, 100]";
   if (!(noise_floor_fraction >= 0 && noise_floor_fraction <= 1)) return "noise_floor_fraction: must be in [0, 1]";
   if (!(min_direction_length >= 0 && min_direction_length < 1e6)) return "min_direction_length: must be >= 0";
@@ -234,7 +236,7 @@ bool ChangeDetector::Confirms(const TestedPair& candidate) const {
   if (dof > 0 && lambda > TestThreshold(dof, noise_dof, settings_.confirm_probability)) return true;
   // One-sided: z > c with P = beta is z^2 > c^2 with P = 2 beta on one degree of freedom.
   const double z = DirectedChangeScore(candidate.test, after);
-  return z > 0 && z * z > TestThreshold(1, noise_dof, 2 * settings_.confirm_probability);
+  return z > 0 && z * z > TestThreshold(1, noise_dof, 2 * settings_.directed_confirm_probability);
 }
 
 const TestedPair& ChangeDetector::Locate(const TestedPair& confirmed) const {

@@ -36,13 +36,16 @@
 // R_b R^T]] (from A = X B X'^-1), while a pair after it sees only its part across its turn, r_i = -J_X delta (a
 // translation dt as (R_a - I) dt). So the off pair's own delta_s = K^+ r_s (whitened) gives the direction u, and the
 // pairs after it are tested along u alone:  z = a / std(a),  a = -g^T u / u^T H u,  a change when z exceeds the
-// one-sided 1 - confirm_probability quantile (t with the noise's degrees of freedom). Whatever the off pair holds, z is
-// N(0, 1) when the pairs after it fit X, so an outlier confirms with probability beta here too. A single bad pair is
-// off alone: the pairs after it fit the estimate and it stays an outlier for the solver's rejection. With Gaussian
-// noise a pair is off with probability below 2 alpha and a false alarm needs the next pairs to confirm by either test,
-// with the scaleless or the metric motions, at beta: below 8 alpha beta (window - 1) = 8e-6 per pair at the
-// defaults, about one session in 400 of 300 stations (a fourth pair would confirm more translations late, and
-// reported a change in 1 of 50 synthetic sessions at handheld noise, 0.5 deg / 5 mm, where three report none). Where
+// one-sided 1 - directed_confirm_probability quantile (t with the noise's degrees of freedom). Whatever the off pair
+// holds, z is N(0, 1) when the pairs after it fit X, so an outlier confirms with probability beta here too. A single
+// bad pair is off alone: the pairs after it fit the estimate and it stays an outlier for the solver's rejection. With
+// Gaussian noise a pair is off with probability below 2 alpha and a false alarm needs the next pairs to confirm by
+// either test, with the scaleless or the metric motions: below 4 alpha (beta + beta_directed) (window - 1) = 4.4e-5 per
+// pair at the defaults, about one session in 75 of 300 stations. The directed test at 1e-2: a 1 cm translation after
+// turns of 8-16 deg reaches z = 2.6-2.9 after two pairs (threshold 2.33 against 3.09 at 1e-3), so it is found within
+// three pairs of the change in 4 of 5 sessions of each simulated scenario rather than 1-3 of 5. The likelihood ratio
+// stays at 1e-3: at 1e-2 it confirmed a change 12 pairs before the camera moved in 1 of 50 synthetic sessions at
+// handheld noise (0.5 deg / 5 mm; the estimate was of 5 pairs), as a fourth pair in the window did. Where
 // the pair across the change was not off alone (a change near the noise), a later one was: the change is then placed
 // across the pair of the newest that splits them best (ChangeDetector::Locate). A pair tells a change only across its
 // turn: the rotation residual of a pair turning by theta shows about 2 sin(theta / 2) of a rotation change, and of a
@@ -63,9 +66,12 @@ namespace fusecal {
 
 struct ChangeDetectionSettings {
   bool enabled = true;
-  double off_probability = 5e-4;      // alpha: chance that one test of a pair of an unchanged rig is off
-  double confirm_probability = 1e-3;  // beta: chance that pairs of an unchanged rig confirm an off pair
-  int window = 3;                     // newest tested pairs the rule looks at
+  double off_probability = 5e-4;  // alpha: chance that one test of a pair of an unchanged rig is off
+  // beta: chance that pairs of an unchanged rig confirm an off pair, by the likelihood ratio of a change in any
+  // direction, and by the directed test along the change the off pair shows.
+  double confirm_probability = 1e-3;
+  double directed_confirm_probability = 1e-2;
+  int window = 3;  // newest tested pairs the rule looks at
   // The pair's noise is the noise the estimate's residuals show, at least this fraction of the nominal.
   double noise_floor_fraction = 0.05;
   // Whether a scaleless camera motion's direction is tested too (when its translation is at least

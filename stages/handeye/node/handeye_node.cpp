@@ -58,6 +58,7 @@ HandEyeNodeSettings ReadHandEyeNodeSettings(ConfigReader r) {
   change.Get("enabled", &s.change_detection.enabled);
   change.Get("off_probability", &s.change_detection.off_probability);
   change.Get("confirm_probability", &s.change_detection.confirm_probability);
+  change.Get("directed_confirm_probability", &s.change_detection.directed_confirm_probability);
   change.Get("window", &s.change_detection.window);
   change.Get("noise_floor_fraction", &s.change_detection.noise_floor_fraction);
   change.Get("test_direction", &s.change_detection.test_direction);

@@ -121,7 +121,7 @@ TEST(ChangeDetector, ScalelessMotionsOffByTheFrontEndAloneDoNotConfirmEachOther)
 }
 
 TEST(ChangeDetector, PairsAfterTheChangeConfirmTheChangeThatTheOffPairShows) {
-  // A translation across turns: the pair across the change shows all of it, a pair after it 0.3 of it,
+  // A translation across turns: the pair across the change shows all of it, a pair after it 0.25 of it,
   // too little for the test of a common change in any direction, enough along the one the off pair shows.
   const auto play = [](double after_sign) {
     ChangeDetector detector;
@@ -130,8 +130,8 @@ TEST(ChangeDetector, PairsAfterTheChangeConfirmTheChangeThatTheOffPairShows) {
     EXPECT_FALSE(detector.Add(MakeTest(0, 64, true, -delta)));  // r_s = K delta, K = -I
     std::optional<int> change;
     for (int k = 1; k <= 2; ++k) {
-      PairTest after = MakeTest(k, 5.8, false, -0.3 * after_sign * delta);  // r_i = -J_X delta
-      after.whitened_jacobian *= 0.3;
+      PairTest after = MakeTest(k, 4.0, false, -0.25 * after_sign * delta);  // r_i = -J_X delta
+      after.whitened_jacobian *= 0.25;
       change = detector.Add(after);
       if (k == 1) {
         EXPECT_FALSE(change) << "one pair after it is not enough";

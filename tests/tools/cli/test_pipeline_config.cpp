@@ -107,11 +107,12 @@ TEST(PipelineConfig, ValuesWithinTheSettingsRangesAreAccepted) {
 TEST(PipelineConfig, ChangeDetectionIsReadAndABadValueIsNamed) {
   ConfigReader config = ConfigReader::FromString(
       "handeye: {change_detection: {enabled: false, off_probability: 1.0e-4, confirm_probability: 1.0e-2, window: 5, "
-      "noise_floor_fraction: 0.2, test_direction: true, min_direction_length: 4}}");
+      "directed_confirm_probability: 0.02, noise_floor_fraction: 0.2, test_direction: true, min_direction_length: 4}}");
   const CalibratorSettings s = ReadHandEyeNodeSettings(config.Child("handeye")).calibrator;
   EXPECT_FALSE(s.change_detection.enabled);
   EXPECT_EQ(s.change_detection.off_probability, 1e-4);
   EXPECT_EQ(s.change_detection.confirm_probability, 1e-2);
+  EXPECT_EQ(s.change_detection.directed_confirm_probability, 0.02);
   EXPECT_EQ(s.change_detection.window, 5);
   EXPECT_EQ(s.change_detection.noise_floor_fraction, 0.2);
   EXPECT_TRUE(s.change_detection.test_direction);
