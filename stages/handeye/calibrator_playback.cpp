@@ -19,9 +19,10 @@ SensorMotion Motion(SensorMotion::Sensor sensor, const StationPair& key, const I
 
 }  // namespace
 
-void PlayMetricPairs(Calibrator& calibrator, const std::vector<MotionPair>& pairs, int from, int to) {
-  std::map<StationPair, Isometry3> metric;
-  for (const auto& p : pairs) metric[{p.station_i, p.station_j}] = p.A;
+void PlayMetricPairs(Calibrator& calibrator, const std::vector<MotionPair>& pairs, int from, int to,
+                     const FusedAnswer& answer) {
+  std::map<StationPair, const MotionPair*> metric;
+  for (const auto& p : pairs) metric[{p.station_i, p.station_j}] = &p;
   if (to < 0) to = static_cast<int>(pairs.size());
   for (int k = from; k < to; ++k) {
     const StationPair key{pairs[k].station_i, pairs[k].station_j};
@@ -32,8 +33,11 @@ void PlayMetricPairs(Calibrator& calibrator, const std::vector<MotionPair>& pair
         calibrator.OnMotion(Motion(SensorMotion::Sensor::kCamera, key, direction, false), 0);
     while (!versions.empty() && versions.back().asks()) {
       std::vector<SensorMotion> fused;
-      for (const StationPair& asked : versions.back().used)
-        fused.push_back(Motion(SensorMotion::Sensor::kCamera, asked, metric.at(asked), true));
+      for (const StationPair& asked : versions.back().used) {
+        const MotionPair& pair = *metric.at(asked);
+        const Isometry3 A = answer ? answer(versions.back(), pair) : pair.A;
+        fused.push_back(Motion(SensorMotion::Sensor::kCamera, asked, A, true));
+      }
       versions = calibrator.OnFusedMotions(versions.back().version, fused, 0);
     }
   }
