@@ -116,8 +116,8 @@ const HandEyeResult* Calibrator::Reference() const {
   const bool scaled = current_ && current_->usable() && current_->scaled;
   // Rotation-degenerate by its motions, not by their number: a scaleless estimate of two pairs, tested with
   // the 5-point rotations of a narrow field of view, reported changes in 2 of 50 unchanged sessions.
-  const HandEyeResult& verdict = scaled ? *current_ : *initial_;
-  const bool one_axis = (scaled || initial_) && verdict.observability == Observability::kRotationDegenerate;
+  const HandEyeResult* verdict = scaled ? &*current_ : initial_ ? &*initial_ : nullptr;
+  const bool one_axis = verdict && verdict->observability == Observability::kRotationDegenerate;
   if (one_axis && initial_ && initial_->usable() && initial_->observability != Observability::kTooFewMotions)
     return &*initial_;
   return scaled ? &*current_ : nullptr;
