@@ -4,8 +4,8 @@
 // solve: its residual r = [Log(R_b^T R^T R_a R) ; (R_a - I) t + s t_a - R t_b] (the paper's A X = X B,
 // handeye/pair_model.hpp) has, if X still holds, the covariance
 //   C = J_A S_A J_A^T + J_B S_B J_B^T + J_X S_X J_X^T
-// (the pair's own noise at the noise the estimate's residuals show, never below a floor, and the estimate's
-// covariance S_X), so
+// (the pair's own noise at the noise the estimate's residuals show, never below a floor, the translation's at
+// least what its residuals show with no share put down to the rotation noise, and the estimate's covariance S_X), so
 //   d^2 = r^T C^-1 r,   d^2 / k  ~  F(k, nu),   k = 6 for a metric camera motion, nu = 3 n - 3 the
 // residuals each part of the noise (rotation, translation) of a solve of n pairs was estimated from, less
 // its 3 unknowns (chi^2(k) for many pairs; a solve of few pairs fits its residuals too well, and the F
@@ -14,7 +14,11 @@
 // that fits it best: the two components of r_t normal to that direction (k = 5; k = 3 for a turn on the spot). That
 // direction comes from the images alone; but it is as noisy as the 5-point solver makes it, which the metric noise does
 // not tell.
-// The pair is "off" when d^2 exceeds the quantile 1 - alpha (alpha = off_probability).
+// The pair is "off" when its rotation rows or its translation rows, each tested alone (r of those rows against
+// their block of C), exceed the quantile 1 - alpha / 2 of their 3 (2 for a direction) rows; a pair tested on its
+// rotation alone, the quantile 1 - alpha (alpha = off_probability). A knock mostly turns or mostly shifts the sensor,
+// and the six rows together dilute a shift with the rotation's noise: a 1 cm shift across a pair read d^2 = 147
+// against 154 for F(6, 6), above the 117 of its translation rows at F(3, 6).
 //
 // Each pair is tested on arrival with its scaleless camera motion (also a pair the solve will reject as an
 // outlier is tested), and again with the metric camera motion fusion odometry gives for it, whose test then

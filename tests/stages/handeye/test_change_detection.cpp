@@ -2,12 +2,14 @@
 // stations, and converges again from the motions after it.
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <random>
 
 #include "stages/foundation/se3.hpp"
 #include "stages/handeye/calibrator.hpp"
 #include "stages/handeye/calibrator_playback.hpp"
 #include "stages/handeye/change_detection.hpp"
+#include "stages/handeye/handeye_solver.hpp"
 #include "stages/handeye/synthetic_motions.hpp"
 
 namespace fusecal {
@@ -158,6 +160,45 @@ TEST(TestPair, TheNoiseOfAnEstimateFromFewPairsHasItsDegreesOfFreedom) {
   EXPECT_GT(TestThreshold(6, 3, 5e-4), 8 * TestThreshold(6, 6, 5e-4));
   estimate.noise_rot_deg = 0.004;  // both below the floor: a known noise
   EXPECT_EQ(TestPair(session.metric[3], estimate, HandEyeSettings{}, settings).noise_dof, kKnownNoiseDof);
+}
+
+TEST(TestPair, ATranslationAloneIsTestedAgainstTheTranslationNoiseAlone) {
+  HandEyeResult estimate;
+  estimate.used_pairs.resize(3);
+  estimate.noise_rot_deg = 0.012;  // both estimated from 3 pairs: F with 6 degrees of freedom
+  estimate.noise_trans_m = 0.0006;
+  const ChangeDetectionSettings settings;
+  const Session unchanged(4, -1, Isometry3::Identity(), 3);
+  estimate.T_camera_lidar = unchanged.X;
+  EXPECT_FALSE(TestPair(unchanged.metric[3], estimate, HandEyeSettings{}, settings).off);
+  // The camera shifts during pair 3: the smallest shift that makes it off is one the six rows together, at
+  // F(6, 6), would not have called off.
+  std::optional<PairTest> first_off;
+  for (double x_m = 0.0005; x_m < 0.05 && !first_off; x_m += 0.0005) {
+    const Session moved(4, 3, Delta(0, x_m), 3);
+    const PairTest test = TestPair(moved.metric[3], estimate, HandEyeSettings{}, settings);
+    if (test.off) first_off = test;
+  }
+  ASSERT_TRUE(first_off);
+  EXPECT_LT(first_off->d2, TestThreshold(6, 6, settings.off_probability));
+}
+
+TEST(TestPair, FewPairsAtHandheldNoiseDoNotMakeTheNextPairsOff) {
+  // Handheld noise (0.5 deg / 5 mm per axis and sensor motion): an estimate of 5 pairs, whose translation
+  // residuals the rotation noise through the lever arm can explain alone, tests the next 35 of an unchanged rig.
+  int off = 0, tested = 0, collapsed = 0;
+  for (uint32_t seed = 1; seed <= 20; ++seed) {
+    const Session session(40, -1, Isometry3::Identity(), seed, 0.5, 0.005);
+    const std::vector<MotionPair> first(session.metric.begin(), session.metric.begin() + 5);
+    const HandEyeResult estimate = SolveScaled(first);
+    ASSERT_TRUE(estimate.usable()) << estimate.message;
+    collapsed += estimate.noise_trans_m < 0.001;
+    for (size_t k = 5; k < session.metric.size(); ++k, ++tested)
+      off += TestPair(session.metric[k], estimate, HandEyeSettings{}, ChangeDetectionSettings{}).off;
+  }
+  EXPECT_GT(collapsed, 0) << "no estimate whose translation noise fell below 1 mm: the case is not exercised";
+  // alpha = 5e-4 per pair by design; allow a few for the estimates' own tails.
+  EXPECT_LE(off, 3) << off << " of " << tested << " pairs off";
 }
 
 TEST(Calibrator, DetectsAMovedCameraWithinThreePairsAndConvergesToTheNewExtrinsic) {
