@@ -243,49 +243,74 @@ struct DdsBus::Impl {
     return any;
   }
 
-  // Takes every queued sample and hands it to the matching handlers. Returns the handler calls.
+  // What one reader has taken and not yet delivered.
+  struct Taken {
+    std::shared_ptr<Reader> reader;
+    std::vector<std::shared_ptr<Sub>> matching;
+    std::vector<dds_sample_info_t> infos;
+    int count = 0, next = 0;
+    bool full = false;  // the take filled the batch: the reader may hold more
+    const fusecal_lcm_message& Next() const { return reader->samples[static_cast<size_t>(next)]; }
+  };
+
+  // Takes the next batch of `t.reader` into its kept samples, and the subscriptions that match it.
+  void TakeBatch(Taken& t) {
+    const int batch = static_cast<int>(t.reader->samples.size());
+    void* samples[kTakeBatch];
+    for (int i = 0; i < batch; ++i) samples[i] = &t.reader->samples[static_cast<size_t>(i)];
+    t.infos.resize(static_cast<size_t>(batch));
+    const int n =
+        dds_take(t.reader->reader, samples, t.infos.data(), static_cast<size_t>(batch), static_cast<uint32_t>(batch));
+    t.count = std::max(n, 0);
+    t.next = 0;
+    t.full = n == batch;
+    std::lock_guard<std::mutex> lock(mutex);
+    t.matching.clear();
+    for (const auto& sub : subs)
+      if (sub->active && sub->Matches(t.reader->channel)) t.matching.push_back(sub);
+  }
+
+  // Delivers what every reader holds, merged in publish order (the writers' utime, then their sequence
+  // number): each channel is its own topic and reader, and a stage that was busy finds several channels
+  // waiting at once; taken reader by reader, a scan published before an image would reach the
+  // stationarity detector after it, and a run would not compute what `calibrate` does in log order.
+  // Returns the handler calls.
   int Drain() {
-    std::vector<std::shared_ptr<Reader>> snapshot;
+    std::vector<Taken> taken;
     {
       std::lock_guard<std::mutex> lock(mutex);
       ScanPublicationsLocked();
-      for (auto& [channel, reader] : readers) snapshot.push_back(reader);
+      for (auto& [channel, reader] : readers) taken.push_back(Taken{reader, {}, {}, 0, 0, false});
     }
+    for (Taken& t : taken) TakeBatch(t);
     int delivered = 0;
-    void* samples[kTakeBatch];
-    dds_sample_info_t infos[kTakeBatch];
-    for (const auto& reader : snapshot) {
-      const int batch = static_cast<int>(reader->samples.size());
-      for (int i = 0; i < batch; ++i) samples[i] = &reader->samples[i];
-      while (!pending_error) {
-        const int n =
-            dds_take(reader->reader, samples, infos, static_cast<size_t>(batch), static_cast<uint32_t>(batch));
-        if (n <= 0) break;
-        std::vector<std::shared_ptr<Sub>> matching;
-        {
-          std::lock_guard<std::mutex> lock(mutex);
-          for (const auto& sub : subs)
-            if (sub->active && sub->Matches(reader->channel)) matching.push_back(sub);
+    for (;;) {
+      Taken* first = nullptr;
+      for (Taken& t : taken) {
+        // After an error, what was taken is still delivered, and nothing more is taken.
+        if (t.next == t.count && t.full && !pending_error) TakeBatch(t);
+        if (t.next == t.count) continue;
+        if (!first || std::make_pair(t.Next().utime, t.Next().seq_number) <
+                          std::make_pair(first->Next().utime, first->Next().seq_number))
+          first = &t;
+      }
+      if (!first) break;
+      const int i = first->next++;
+      if (!first->infos[static_cast<size_t>(i)].valid_data) continue;
+      const fusecal_lcm_message& message = first->reader->samples[static_cast<size_t>(i)];
+      dropped += gaps.Count(first->infos[static_cast<size_t>(i)].publication_handle, message.seq_number);
+      const int64_t receive_utime = WallUtime();  // when this bus took it (LCM: when it was read)
+      const RawMessage raw{first->reader->channel, message.data._buffer, message.data._length, receive_utime};
+      for (const auto& sub : first->matching) {
+        if (!sub->active) continue;  // unsubscribed by an earlier handler
+        ++delivered;
+        try {
+          sub->handler(raw);
+        } catch (...) {
+          // The first error wins; the other handlers and the rest of the batch are still served
+          // (a sample taken from the reader and not delivered would be lost without a count).
+          if (!pending_error) pending_error = std::current_exception();
         }
-        for (int i = 0; i < n; ++i) {
-          if (!infos[i].valid_data) continue;
-          const auto* message = static_cast<const fusecal_lcm_message*>(samples[i]);
-          dropped += gaps.Count(infos[i].publication_handle, message->seq_number);
-          const int64_t receive_utime = WallUtime();  // when this bus took it (LCM: when it was read)
-          const RawMessage raw{reader->channel, message->data._buffer, message->data._length, receive_utime};
-          for (const auto& sub : matching) {
-            if (!sub->active) continue;  // unsubscribed by an earlier handler
-            ++delivered;
-            try {
-              sub->handler(raw);
-            } catch (...) {
-              // The first error wins; the other handlers and the rest of the batch are still served
-              // (a sample taken from the reader and not delivered would be lost without a count).
-              if (!pending_error) pending_error = std::current_exception();
-            }
-          }
-        }
-        if (n < batch) break;
       }
     }
     return delivered;

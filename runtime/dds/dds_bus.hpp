@@ -5,6 +5,7 @@
 // logs and tools stay LCM. Writers are created on the first publish to a channel; readers on
 // subscription: a plain channel name gets its reader at once, a regular expression gets readers for
 // matching topics as their writers are discovered (DCPSPublication, local writers included).
+// Handle delivers what the readers hold merged in publish order (the writers' utime, then sequence).
 //
 // QoS and what it drops (the consequences, written down):
 // - Per channel kind (runtime/channels.hpp; the rules are written at QosFor in dds_bus.cpp): state

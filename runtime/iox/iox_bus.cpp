@@ -183,24 +183,48 @@ struct IoxBus::Impl {
     }
   }
 
-  // Takes every queued chunk and hands it, in place, to the matching handlers. Returns the handler calls.
+  // A reader's next chunk, taken and not yet delivered (header null: none).
+  struct Head {
+    Reader* reader = nullptr;
+    const void* payload = nullptr;
+    const iox::IoxChunkHeader* header = nullptr;
+  };
+  // Takes the reader's next chunk of ours; after an error nothing more is taken.
+  void TakeNext(Head& head) {
+    for (;;) {
+      head.payload = nullptr;
+      head.header = nullptr;
+      if (pending_error || iox_sub_take_chunk(head.reader->sub, &head.payload) != ChunkReceiveResult_SUCCESS) return;
+      head.header = iox::ParseChunk(head.payload, PayloadBytes(head.payload));
+      if (head.header) return;
+      iox_sub_release_chunk(head.reader->sub, head.payload);
+    }
+  }
+
+  // Takes every queued chunk and hands it, in place, to the matching handlers, merged across channels in
+  // publish order (utime, then sequence): each channel has its own subscriber, and a stage that was busy
+  // finds several waiting at once (a scan published before an image must reach the detector first, as
+  // in the log). Returns the handler calls.
   int Drain() {
-    std::vector<Reader*> snapshot;
+    std::vector<Head> heads;
     {
       std::lock_guard<std::mutex> lock(mutex);
-      for (auto& [channel, reader] : readers) snapshot.push_back(reader.get());
+      for (auto& [channel, reader] : readers) heads.push_back(Head{reader.get()});
     }
+    for (Head& head : heads) TakeNext(head);
     int delivered = 0;
-    for (Reader* reader : snapshot) {
-      const void* payload = nullptr;
-      while (!pending_error && iox_sub_take_chunk(reader->sub, &payload) == ChunkReceiveResult_SUCCESS) {
-        const iox::IoxChunkHeader* header = iox::ParseChunk(payload, PayloadBytes(payload));
-        if (header) {
-          dropped += reader->gaps.Count(header->origin, header->sequence);
-          if (deliver_own || header->origin != origin) delivered += Deliver(*reader, *header);
-        }
-        iox_sub_release_chunk(reader->sub, payload);  // after every handler has returned
-      }
+    for (;;) {
+      Head* first = nullptr;
+      for (Head& head : heads)
+        if (head.header && (!first || std::make_pair(head.header->utime, head.header->sequence) <
+                                          std::make_pair(first->header->utime, first->header->sequence)))
+          first = &head;
+      if (!first) break;
+      const iox::IoxChunkHeader& header = *first->header;
+      dropped += first->reader->gaps.Count(header.origin, header.sequence);
+      if (deliver_own || header.origin != origin) delivered += Deliver(*first->reader, header);
+      iox_sub_release_chunk(first->reader->sub, first->payload);  // after every handler has returned
+      TakeNext(*first);
     }
     return delivered;
   }

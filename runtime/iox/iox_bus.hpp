@@ -6,6 +6,7 @@
 // once and publishes it; Handle() hands each handler a RawMessage whose `data` points into the shared-
 // memory chunk itself, valid for the handler's call only (a stage that keeps the message copies it, as
 // every decoding handler does). A handler that looks only at the first bytes never touches the rest.
+// What several subscribers hold is delivered merged in publish order (utime, then sequence).
 //
 // Subscriptions: a plain channel name gets its subscriber at once; a regular expression gets subscribers
 // for the matching services as iceoryx's service discovery reports them (polled every 100 ms while
