@@ -85,6 +85,10 @@ int StageMain(int argc, char** argv, const StageDefinition& stage) {
   std::string camera;
   if (stage.per_camera)
     app.add_option("--camera", camera, "the camera this process serves, on a rig of several (the config's cameras)");
+  bool paced = false;
+  app.add_flag("--paced", paced,
+               "the input is a replay that waits for the pipeline (fusecal run gives this): no raw frame is "
+               "skipped to keep up");
   app.set_version_flag("--version", std::string(kFusecalVersion));
   try {
     app.parse(argc, argv);
@@ -96,6 +100,7 @@ int StageMain(int argc, char** argv, const StageDefinition& stage) {
   std::unique_ptr<StageNode> node;
   try {
     node = stage.make_node(config_path, camera);
+    if (paced) node->UsePacedInput();
   } catch (const std::exception& e) {
     std::cerr << "fusecal-" << status_name << ": " << e.what() << "\n";
     return 2;
@@ -116,7 +121,7 @@ int StageMain(int argc, char** argv, const StageDefinition& stage) {
   std::cerr << "fusecal-" << status_name << ": running on " << bus->url() << "\n";
   while (!g_stop_requested) {
     try {
-      bus->Handle(node->TickPeriodMs());
+      bus->Handle(node->HasQueuedWork() ? 0 : node->TickPeriodMs());
       node->Tick(*bus, NowUtime());
     } catch (const std::exception& e) {
       if (g_stop_requested) break;  // a signal interrupted the wait: not an error
@@ -124,7 +129,7 @@ int StageMain(int argc, char** argv, const StageDefinition& stage) {
       std::cerr << "fusecal-" << status_name << ": error: " << last_error << " (still running)\n";
     }
     const int64_t now = NowUtime();
-    if (now >= next_heartbeat) {
+    if (node->WantsStatusNow() || now >= next_heartbeat) {
       try {
         PublishStatus(*bus, status_name, node->Status(), last_error);
       } catch (const std::exception& e) {

@@ -1,6 +1,7 @@
-// The common `main` of a stage process: flags (--config, --bus, --camera, --help, --version), clean exit on
-// SIGINT/SIGTERM, a STATUS heartbeat at 1 Hz, and a loop that dispatches messages. A handler that throws
-// is reported (stderr and STATUS.last_error) and the process keeps running: nothing computed is lost.
+// The common `main` of a stage process: flags (--config, --bus, --camera, --paced, --help, --version),
+// clean exit on SIGINT/SIGTERM, a STATUS heartbeat at 1 Hz (sooner when the node asks), and a loop that
+// dispatches messages. A handler that throws is reported (stderr and STATUS.last_error) and the process
+// keeps running: nothing computed is lost.
 #pragma once
 
 #include <functional>
@@ -30,6 +31,16 @@ class StageNode {
   virtual void Tick(Bus& bus, int64_t now_utime) {}
   // A node that polls an outside source in Tick (the ROS 2 input) asks for a shorter period.
   virtual int TickPeriodMs() const { return 100; }
+  // Work is queued that the next Tick takes (Tick returns now and then so that the bus is served): the
+  // loop calls Tick again without waiting for messages.
+  virtual bool HasQueuedWork() const { return false; }
+  // The input is a replay that waits for the pipeline (`fusecal run` without --live passes --paced): a
+  // node that would skip raw frames to keep up queues them all instead, so that the run computes what
+  // `fusecal calibrate` does.
+  virtual void UsePacedInput() {}
+  // True when the node's STATUS should go out now rather than at the next second (a paced detector
+  // tells the player what it has done).
+  virtual bool WantsStatusNow() { return false; }
   // The input has ended (a replayed log is exhausted): emit whatever is pending.
   virtual void Flush(Bus& bus) {}
   virtual StageStatus Status() const = 0;

@@ -29,7 +29,7 @@ class InProcessPipeline {
     for (;;) {
       while (HandleOnce() > 0) {
       }
-      if (TickAll()) continue;
+      if (TickAll() || AnyQueuedWork()) continue;
       if (HandleOnce() == 0) break;
     }
     size_t stations = 0, versions = 0;
@@ -70,6 +70,12 @@ class InProcessPipeline {
       }
     }
     return failed;
+  }
+
+  bool AnyQueuedWork() const {
+    for (const auto& n : nodes_)
+      if (n.node->HasQueuedWork()) return true;
+    return false;
   }
 
   Bus& bus_;

@@ -1,5 +1,6 @@
 #include "runtime/pipeline/run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -39,6 +40,10 @@ struct PipelineWatch {
   std::set<std::string> alive;                        // stage names that sent STATUS
   std::map<std::string, int> pids;                    // stage name -> pid of its latest STATUS
   bool player_done = false;                           // a player (another host's run) has said "done"
+  // The stationarity detector's latest STATUS: its frames done, lost ones included, and its process (a
+  // restarted one counts from 0).
+  double detector_frames_done = 0;
+  int detector_pid = 0;
   static std::string CameraKey(const std::string& camera) { return camera.empty() ? "camera" : "camera/" + camera; }
   std::string player_host;
   std::vector<Subscription> subs;
@@ -65,6 +70,13 @@ struct PipelineWatch {
             player_host = s.host;
           }
           if (s.state == "stopped" || s.name == kPlayerName) return;
+          if (s.name == "stationarity") {
+            detector_pid = s.pid;
+            detector_frames_done = 0;
+            for (int i = 0; i < s.num_counters; ++i)
+              if (s.counter_names[i] == "frames_done" || s.counter_names[i] == "bus_dropped")
+                detector_frames_done += s.counter_values[i];
+          }
           alive.insert(s.name);
           pids[s.name] = s.pid;
         },
@@ -188,6 +200,8 @@ class PipelineRun {
       const auto [stage, camera] = StageAndCamera(name);
       std::vector<std::string> args{"--config", config_.path, "--bus", transport_.stage_url()};
       if (!camera.empty()) args.insert(args.end(), {"--camera", camera});
+      // A replay that waits for the stages: the detector takes every frame, as in `calibrate`.
+      if (player_ && !options_.live) args.push_back("--paced");
       supervisor_.Add({name, ExecutableDir() + "/" + FindStage(stage)->Executable(), args});
     }
     // iox://: the coordinator's bus and the stages' are joined by a bridge process, supervised like a stage
@@ -388,6 +402,33 @@ class PipelineRun {
     };
   }
 
+  static bool IsRawFrame(const std::string& channel) {
+    const std::string pipeline_channel = PipelineChannelOf(channel);
+    return pipeline_channel == channels::kCameraImage.name || pipeline_channel == channels::kLidarScan.name;
+  }
+  // The detector runs here on a replay that waits for it (started with --paced).
+  bool DetectorIsPaced() const {
+    return player_ && !options_.live && use_detector_ &&
+           std::find(names_.begin(), names_.end(), "stationarity") != names_.end();
+  }
+  // Keeps at most kFramesInFlight raw frames ahead of what the detector has done, however slow it is, so
+  // that none is lost on the way (a DDS reader keeps 8 raw frames): measured on a loaded machine, the
+  // detector lost 2 frames without this and the run ended 0.006 deg from `calibrate`. The replay clock
+  // does not run meanwhile. A frame lost on the way counts when a later one arrives; at the end of the
+  // log, the wait gives up after kDetectorWait_s.
+  void WaitForDetector() {
+    const auto wait_start = Clock::now();
+    Pump(kDetectorWait_s, [&] {
+      if (watch_.detector_pid == 0) return false;
+      if (watch_.detector_pid != detector_pid_) {  // a new detector process: what it has not seen is not in flight
+        detector_pid_ = watch_.detector_pid;
+        detector_base_ = raw_frames_played_ - static_cast<long>(watch_.detector_frames_done);
+      }
+      return raw_frames_played_ - detector_base_ - static_cast<long>(watch_.detector_frames_done) <= kFramesInFlight;
+    });
+    replay_start_ += Clock::now() - wait_start;
+  }
+
   // Waits until the pipeline has dealt with the station; the replay clock does not run meanwhile.
   void WaitForStation(int station_id) {
     const auto wait_start = Clock::now();
@@ -414,6 +455,10 @@ class PipelineRun {
       if (ResupplyPending()) Pump(config_.idle_timeout_s, [&] { return !ResupplyPending(); });
       const size_t stations_before = session_.stations().size();
       bus_->PublishRaw(ch, ev->data.data(), ev->data.size());
+      if (IsRawFrame(ch) && DetectorIsPaced()) {
+        ++raw_frames_played_;
+        WaitForDetector();
+      }
       // A station of the log is played when every camera's copy of it is.
       int complete_station = -1;
       if (PipelineChannelOf(ch) == channels::kStation.name) {
@@ -510,6 +555,11 @@ class PipelineRun {
   const std::function<void(const std::string&)>& progress_;
   const std::function<void(const std::string&)>& event_;
   const bool player_;  // this run plays a log
+  static constexpr long kFramesInFlight = 4;
+  static constexpr double kDetectorWait_s = 5;
+  long raw_frames_played_ = 0;  // to the detector
+  long detector_base_ = 0;      // raw_frames_played_ less frames done when its process first reported
+  int detector_pid_ = 0;
   const std::string url_;
   const bool use_detector_;
   SharedMemoryTransport transport_;

@@ -1,5 +1,6 @@
 #include "stages/stationarity/node/stationarity_node.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -52,6 +53,7 @@ void StationarityNode::Start(Bus& bus) {
 
 // Latest wins per stream: a full stream drops its oldest queued frame.
 void StationarityNode::Queue(bool image, const RawMessage& raw) {
+  ++frames_received_;
   if (image && min_image_interval_us_ > 0) {
     const int64_t utime = PeekUtime(raw.data, raw.size);
     // (A clock that went back starts over rather than stalling the camera.)
@@ -78,7 +80,8 @@ void StationarityNode::Queue(bool image, const RawMessage& raw) {
 }
 
 void StationarityNode::Tick(Bus& bus, int64_t) {
-  while (!queue_.empty()) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(kMaxTickMs);
+  while (!queue_.empty() && std::chrono::steady_clock::now() < end) {
     QueuedFrame frame = std::move(queue_.front());
     queue_.pop_front();
     --(frame.image ? queued_images_ : queued_scans_);
@@ -146,6 +149,7 @@ void StationarityNode::PublishStation(Bus& bus, const std::string& camera, const
 }
 
 void StationarityNode::KeepOtherImage(const std::string& camera, const RawMessage& raw) {
+  ++frames_received_;
   auto& images = other_images_[camera];
   const int64_t utime = PeekUtime(raw.data, raw.size);
   images.push_back({utime, std::vector<uint8_t>(raw.data, raw.data + raw.size)});
@@ -197,13 +201,19 @@ std::string StationarityNode::PublishWaiting(Bus& bus, const std::string& camera
 }
 
 void StationarityNode::Flush(Bus& bus) {
-  Tick(bus, NowUtime());
+  while (!queue_.empty()) Tick(bus, NowUtime());
   if (auto s = detector_.Flush()) Emit(bus, *s);
   std::string problems;  // the input has ended: what waits for an image now has all it will get
   for (const std::string& camera : cameras_)
     if (const std::string p = PublishWaiting(bus, camera, true); !p.empty())
       problems += std::string(problems.empty() ? "" : "; ") + p;
   if (!problems.empty()) throw std::runtime_error(problems);
+}
+
+bool StationarityNode::WantsStatusNow() {
+  if (!paced_ || FramesDone() < frames_reported_ + kPacedReportEvery) return false;
+  frames_reported_ = FramesDone();
+  return true;
 }
 
 StageStatus StationarityNode::Status() const {
@@ -223,7 +233,8 @@ StageStatus StationarityNode::Status() const {
                 {"images_without_texture", double(c.images_without_texture)},
                 {"out_of_order", double(c.images_out_of_order + c.scans_out_of_order)},
                 {"without_camera_info", without_camera_info_},
-                {"stations_without_image", double(stations_without_image_)}};
+                {"stations_without_image", double(stations_without_image_)},
+                {"frames_done", double(FramesDone())}};
   work_.AddTo(&s.counters);
   s.counters["image_ms_mean"] = image_work_.mean_ms();
   s.counters["scan_ms_mean"] = scan_work_.mean_ms();

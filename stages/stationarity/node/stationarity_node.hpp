@@ -5,7 +5,11 @@
 // in arrival order when it is free (Tick). Each stream keeps at most `raw_queue_depth` frames: a newer
 // frame pushes the oldest one out (latest wins), counted in STATUS as images_skipped / scans_skipped.
 // A station is built from frames the detector has taken, so a skipped frame costs a sample, never a
-// station; STATION itself is published by this stage and never skipped.
+// station; STATION itself is published by this stage and never skipped. A replay that waits for the
+// pipeline (--paced) skips nothing: the queue holds up to kPacedQueueDepth frames per stream, so that
+// the stations are those `fusecal calibrate` finds, and its STATUS says every kPacedReportEvery frames
+// how many it has done, so that the player keeps only a few in flight. Tick returns after kMaxTickMs with frames still
+// queued, so that the bus is served meanwhile (a DDS reader keeps only `bulk_depth` raw frames).
 //
 // Decimation: images are taken at most `max_image_rate_hz` (default 5 Hz; 0: all). Decoding a 2048x1024
 // JPEG alone costs about 4.5 ms; every scan is still taken, so each taken image has its scan within
@@ -59,6 +63,17 @@ class StationarityNode : public StageNode {
   void Tick(Bus& bus, int64_t now_utime) override;
   void Flush(Bus& bus) override;
   StageStatus Status() const override;
+  bool HasQueuedWork() const override { return !queue_.empty(); }
+  void UsePacedInput() override {
+    paced_ = true;
+    raw_queue_depth_ = kPacedQueueDepth;
+  }
+  // Paced: a STATUS every kPacedReportEvery frames done (taken, decimated or skipped), whose
+  // `frames_done` the player waits for (`fusecal run`: at most a few frames in flight).
+  bool WantsStatusNow() override;
+  static constexpr int kPacedQueueDepth = 1000;
+  static constexpr int kMaxTickMs = 50;
+  static constexpr long kPacedReportEvery = 2;
 
  private:
   struct QueuedFrame {
@@ -104,7 +119,11 @@ class StationarityNode : public StageNode {
   int stations_ = 0, without_camera_info_ = 0;
   Bus* bus_ = nullptr;  // for the other cameras' handlers
   long images_skipped_ = 0, scans_skipped_ = 0, images_decimated_ = 0;
-  WorkStats work_;  // one item per frame taken
+  long frames_received_ = 0;  // every raw frame its handlers were given, of every camera
+  long FramesDone() const { return frames_received_ - static_cast<long>(queue_.size()); }
+  bool paced_ = false;
+  long frames_reported_ = 0;  // FramesDone() at the last STATUS asked for
+  WorkStats work_;            // one item per frame taken
   WorkStats image_work_, scan_work_;
 };
 

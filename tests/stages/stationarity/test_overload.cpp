@@ -22,13 +22,15 @@ struct Outcome {
 };
 
 // Plays the tiny recording into a node on memq, letting the node work only after every `burst` frames
-// (a detector slower than the stream); burst 1 is a node that keeps up.
-Outcome Play(int burst, int queue_depth) {
+// (a detector slower than the stream); burst 1 is a node that keeps up. `paced`: a replay that waits for
+// the pipeline (--paced).
+Outcome Play(int burst, int queue_depth, bool paced = false) {
   StationarityNodeSettings settings;
   settings.detector = TinySettings();
   settings.raw_queue_depth = queue_depth;
   settings.max_image_rate_hz = 0;  // every image (no decimation), so only overload skips
   StationarityNode node(settings);
+  if (paced) node.UsePacedInput();
   auto bus = MakeBus("memq://");
   Outcome out;
   auto sub = bus->Subscribe<station_t>(
@@ -39,7 +41,8 @@ Outcome Play(int burst, int queue_depth) {
   auto settle = [&] {
     while (bus->Handle(0) > 0) {
     }
-    node.Tick(*bus, 0);
+    do node.Tick(*bus, 0);
+    while (node.HasQueuedWork());
     while (bus->Handle(0) > 0) {
     }
   };
@@ -84,6 +87,45 @@ TEST(StationarityOverload, FramesBeyondTheQueueAreSkippedAndCountedButNoStationI
   EXPECT_GT(kept_up.stations, 0);
   EXPECT_EQ(slow.stations, kept_up.stations) << "a skipped frame costs a sample, never a station";
   EXPECT_EQ(slow.stations, static_cast<double>(slow.counters.at("stations")));
+}
+
+TEST(StationarityOverload, APacedReplaySkipsNoFrameWhenTheDetectorFallsBehind) {
+  const Outcome kept_up = Play(1, 2);
+  // The detector works only after every 40 frames, far beyond a queue of 2 per stream.
+  const Outcome paced = Play(40, 2, true);
+  EXPECT_EQ(paced.counters.at("skipped"), 0);
+  EXPECT_EQ(paced.counters.at("items"), static_cast<double>(TinyRecording().frames.size()));
+  EXPECT_EQ(paced.stations, kept_up.stations);
+  EXPECT_GT(Play(40, 2).counters.at("skipped"), 0) << "without --paced the same burst skips frames";
+}
+
+// Paced, the node asks for a STATUS every two frames done, whose frames_done the player waits for.
+TEST(StationarityOverload, APacedNodeReportsTheFramesItHasDone) {
+  for (const bool paced : {false, true}) {
+    StationarityNodeSettings settings;
+    settings.detector = TinySettings();
+    settings.max_image_rate_hz = 0;
+    StationarityNode node(settings);
+    if (paced) node.UsePacedInput();
+    auto bus = MakeBus("memq://");
+    node.Start(*bus);
+    const Recording& r = TinyRecording();
+    int reports = 0, frames = 0;
+    for (int k = 0; k < 6; ++k, ++frames) {
+      const Frame& f = r.frames[static_cast<size_t>(k)];
+      f.camera ? bus->Publish(channels::kCameraImage, MatToImage(f.image, "bgr8", f.utime))
+               : bus->Publish(channels::kLidarScan, CloudToMsg(f.cloud, f.utime));
+      while (bus->Handle(0) > 0) {
+      }
+      EXPECT_FALSE(node.WantsStatusNow()) << "a queued frame is not done";
+      node.Tick(*bus, 0);
+      if (node.WantsStatusNow()) {
+        ++reports;
+        EXPECT_EQ(node.Status().counters.at("frames_done"), frames + 1);
+      }
+    }
+    EXPECT_EQ(reports, paced ? 3 : 0) << (paced ? "paced" : "not paced");
+  }
 }
 
 TEST(StationarityOverload, DecimationTakesImagesAtTheConfiguredRate) {
