@@ -20,6 +20,7 @@
 #include "runtime/channel_pattern.hpp"
 #include "runtime/channels.hpp"
 #include "runtime/dds/dds_envelope.hpp"
+#include "runtime/deliver_to_handlers.hpp"
 #include "runtime/shared_memory.hpp"
 
 namespace fusecal {
@@ -301,17 +302,7 @@ struct DdsBus::Impl {
       dropped += gaps.Count(first->infos[static_cast<size_t>(i)].publication_handle, message.seq_number);
       const int64_t receive_utime = WallUtime();  // when this bus took it (LCM: when it was read)
       const RawMessage raw{first->reader->channel, message.data._buffer, message.data._length, receive_utime};
-      for (const auto& sub : first->matching) {
-        if (!sub->active) continue;  // unsubscribed by an earlier handler
-        ++delivered;
-        try {
-          sub->handler(raw);
-        } catch (...) {
-          // The first error wins; the other handlers and the rest of the batch are still served
-          // (a sample taken from the reader and not delivered would be lost without a count).
-          if (!pending_error) pending_error = std::current_exception();
-        }
-      }
+      delivered += DeliverToHandlers(first->matching, raw, pending_error);
     }
     return delivered;
   }

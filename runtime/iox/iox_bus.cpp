@@ -18,6 +18,7 @@
 #include "runtime/bus_url.hpp"
 #include "runtime/channel_pattern.hpp"
 #include "runtime/channels.hpp"
+#include "runtime/deliver_to_handlers.hpp"
 #include "runtime/iox/iceoryx_c.hpp"
 #include "runtime/iox/iox_chunk.hpp"
 #include "runtime/iox/iox_runtime.hpp"
@@ -238,18 +239,7 @@ struct IoxBus::Impl {
     }
     const auto* bytes = reinterpret_cast<const uint8_t*>(&header) + iox::kChunkHeaderBytes;
     const RawMessage raw{reader.channel, bytes, static_cast<size_t>(header.size), NowUtime()};
-    int delivered = 0;
-    for (const auto& sub : matching) {
-      if (!sub->active) continue;  // unsubscribed by an earlier handler
-      ++delivered;
-      try {
-        sub->handler(raw);
-      } catch (...) {
-        // The first error wins; the other handlers still get the message (as LCM and DDS do).
-        if (!pending_error) pending_error = std::current_exception();
-      }
-    }
-    return delivered;
+    return DeliverToHandlers(matching, raw, pending_error);
   }
 
   Writer& WriterLocked(const std::string& channel) {
