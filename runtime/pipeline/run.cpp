@@ -40,10 +40,6 @@ struct PipelineWatch {
   std::set<std::string> alive;                        // stage names that sent STATUS
   std::map<std::string, int> pids;                    // stage name -> pid of its latest STATUS
   bool player_done = false;                           // a player (another host's run) has said "done"
-  // The stationarity detector's latest STATUS: its frames done, lost ones included, and its process (a
-  // restarted one counts from 0).
-  double detector_frames_done = 0;
-  int detector_pid = 0;
   static std::string CameraKey(const std::string& camera) { return camera.empty() ? "camera" : "camera/" + camera; }
   std::string player_host;
   std::vector<Subscription> subs;
@@ -70,13 +66,6 @@ struct PipelineWatch {
             player_host = s.host;
           }
           if (s.state == "stopped" || s.name == kPlayerName) return;
-          if (s.name == "stationarity") {
-            detector_pid = s.pid;
-            detector_frames_done = 0;
-            for (int i = 0; i < s.num_counters; ++i)
-              if (s.counter_names[i] == "frames_done" || s.counter_names[i] == "bus_dropped")
-                detector_frames_done += s.counter_values[i];
-          }
           alive.insert(s.name);
           pids[s.name] = s.pid;
         },
@@ -201,7 +190,7 @@ class PipelineRun {
       std::vector<std::string> args{"--config", config_.path, "--bus", transport_.stage_url()};
       if (!camera.empty()) args.insert(args.end(), {"--camera", camera});
       // A replay that waits for the stages: the detector takes every frame, as in `calibrate`.
-      if (player_ && !options_.live) args.push_back("--paced");
+      if (PacedReplay()) args.push_back("--paced");
       supervisor_.Add({name, ExecutableDir() + "/" + FindStage(stage)->Executable(), args});
     }
     // iox://: the coordinator's bus and the stages' are joined by a bridge process, supervised like a stage
@@ -402,14 +391,17 @@ class PipelineRun {
     };
   }
 
-  static bool IsRawFrame(const std::string& channel) {
-    const std::string pipeline_channel = PipelineChannelOf(channel);
-    return pipeline_channel == channels::kCameraImage.name || pipeline_channel == channels::kLidarScan.name;
-  }
+  // This run plays a log and waits for the stages.
+  bool PacedReplay() const { return player_ && !options_.live; }
   // The detector runs here on a replay that waits for it (started with --paced).
   bool DetectorIsPaced() const {
-    return player_ && !options_.live && use_detector_ &&
-           std::find(names_.begin(), names_.end(), "stationarity") != names_.end();
+    return PacedReplay() && use_detector_ && std::find(names_.begin(), names_.end(), "stationarity") != names_.end();
+  }
+  // The raw frames the detector has done, lost ones included, by its latest STATUS.
+  long DetectorFramesDone() const {
+    const auto it = session_.stage_counters().find("stationarity");
+    if (it == session_.stage_counters().end()) return 0;
+    return static_cast<long>(StageCounter(it->second, "frames_done") + StageCounter(it->second, "bus_dropped"));
   }
   // Keeps at most kFramesInFlight raw frames ahead of what the detector has done, however slow it is, so
   // that none is lost on the way (a DDS reader keeps 8 raw frames): measured on a loaded machine, the
@@ -419,12 +411,14 @@ class PipelineRun {
   void WaitForDetector() {
     const auto wait_start = Clock::now();
     Pump(kDetectorWait_s, [&] {
-      if (watch_.detector_pid == 0) return false;
-      if (watch_.detector_pid != detector_pid_) {  // a new detector process: what it has not seen is not in flight
-        detector_pid_ = watch_.detector_pid;
-        detector_base_ = raw_frames_played_ - static_cast<long>(watch_.detector_frames_done);
+      const auto pid = watch_.pids.find("stationarity");
+      if (pid == watch_.pids.end()) return false;
+      // A new detector process counts from 0: what it has not seen is not in flight.
+      if (pid->second != detector_pid_) {
+        detector_pid_ = pid->second;
+        detector_base_ = raw_frames_played_ - DetectorFramesDone();
       }
-      return raw_frames_played_ - detector_base_ - static_cast<long>(watch_.detector_frames_done) <= kFramesInFlight;
+      return raw_frames_played_ - detector_base_ - DetectorFramesDone() <= kFramesInFlight;
     });
     replay_start_ += Clock::now() - wait_start;
   }
@@ -455,7 +449,7 @@ class PipelineRun {
       if (ResupplyPending()) Pump(config_.idle_timeout_s, [&] { return !ResupplyPending(); });
       const size_t stations_before = session_.stations().size();
       bus_->PublishRaw(ch, ev->data.data(), ev->data.size());
-      if (IsRawFrame(ch) && DetectorIsPaced()) {
+      if (TraitsOfChannel(ch).kind == ChannelKind::kBulk && DetectorIsPaced()) {
         ++raw_frames_played_;
         WaitForDetector();
       }
