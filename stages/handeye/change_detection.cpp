@@ -19,6 +19,7 @@ std::string ChangeDetectionSettings::Validate() const {
   if (window < 2 || window > 100) return "window: must be in [2, 100]";
   if (!(noise_floor_fraction >= 0 && noise_floor_fraction <= 1)) return "noise_floor_fraction: must be in [0, 1]";
   if (!(min_direction_length >= 0 && min_direction_length < 1e6)) return "min_direction_length: must be >= 0";
+  if (split_min_noise_dof < 1 || split_min_noise_dof > 1000) return "split_min_noise_dof: must be in [1, 1000]";
   return "";
 }
 
@@ -66,9 +67,6 @@ double IncompleteBeta(double a, double b, double x) {
   return front * f;
 }
 
-// P(F(d1, d2) > x).
-double FSurvival(double d1, double d2, double x) { return IncompleteBeta(0.5 * d2, 0.5 * d1, d2 / (d2 + d1 * x)); }
-
 // The x with survival(x) = alpha, by bisection from [0, hi] (hi doubled until it brackets x).
 template <typename Survival>
 double UpperQuantile(const Survival& survival, double alpha, double hi) {
@@ -83,10 +81,12 @@ double UpperQuantile(const Survival& survival, double alpha, double hi) {
 
 }  // namespace
 
+double FUpperTail(double d1, double d2, double x) { return IncompleteBeta(0.5 * d2, 0.5 * d1, d2 / (d2 + d1 * x)); }
+
 double TestThreshold(int dof, int noise_dof, double alpha) {
   if (noise_dof >= kKnownNoiseDof) return ChiSquareQuantile(dof, alpha);
   // d^2 / dof with a noise estimated from noise_dof residuals is F(dof, noise_dof) distributed.
-  return dof * UpperQuantile([&](double x) { return FSurvival(dof, noise_dof, x); }, alpha, 1.0);
+  return dof * UpperQuantile([&](double x) { return FUpperTail(dof, noise_dof, x); }, alpha, 1.0);
 }
 
 double ChiSquareQuantile(int dof, double alpha) {

@@ -85,6 +85,10 @@ struct ChangeDetectionSettings {
   // 50 sessions), and the test takes its noise from the metric motions.
   bool test_direction = false;
   double min_direction_length = 10.0;
+  // The pairs tested on their rotations alone while the estimate was rotation-degenerate get the change-point
+  // test of handeye/split_test.hpp once it is observable, at confirm_probability, with a noise estimated from
+  // at least this many residuals.
+  int split_min_noise_dof = 6;
 
   // Empty when usable, else the field and what is wrong.
   std::string Validate() const;
@@ -132,6 +136,9 @@ inline constexpr int kKnownNoiseDof = 2000;
 // The threshold of d^2 for upper-tail probability `alpha` with `dof` tested residuals whose noise was
 // estimated from `noise_dof` residuals: dof times the F(dof, noise_dof) quantile.
 double TestThreshold(int dof, int noise_dof, double alpha);
+
+// P(F(d1, d2) > x).
+double FUpperTail(double d1, double d2, double x);
 
 // The chi^2 quantile for upper-tail probability `alpha` with `dof` degrees of freedom.
 double ChiSquareQuantile(int dof, double alpha);
