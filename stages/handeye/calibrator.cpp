@@ -6,6 +6,7 @@
 
 #include "stages/foundation/observed_covariance.hpp"
 #include "stages/handeye/motion_selection.hpp"
+#include "stages/handeye/split_test.hpp"
 
 namespace fusecal {
 
@@ -84,7 +85,7 @@ std::vector<CalibrationVersion> Calibrator::OnMotion(const SensorMotion& motion,
   LimitPairs();
   // The new pair's rotation is tested as it comes (also when the solve will reject it as an outlier).
   if (const auto change = DetectChange(ScalelessPairs()))
-    return StartAfterChange(change->first, change->second, now_utime);
+    return StartAfterChange(change->first, change->second, *reference_, now_utime);
   return StartRound(now_utime);
 }
 
@@ -100,15 +101,46 @@ std::optional<StationPair> Calibrator::DetectChange(std::vector<MotionPair> pair
     // rotation-degenerate (the first motions all turned about one axis), it is the scaleless one: fusion
     // odometry's motions at an extrinsic off along the unobservable direction miss by far more than their
     // noise (0.13 deg against 0.005 in simulation), and that noise would hide any change; the 5-point
-    // rotations do not depend on the extrinsic. Metric motions are then not tested.
+    // rotations do not depend on the extrinsic. Metric motions are then not tested one by one; once the estimate is
+    // observable, the change-point test takes them (DetectChangeBySplit).
     if (!detector_.Suspicious()) {
       if (const HandEyeResult* reference = Reference()) reference_ = *reference;
     }
-    if (!reference_ || (p.camera_scaled && !reference_->scaled && settings_.scaled_refinement)) continue;
+    if (!reference_) continue;
+    if (p.camera_scaled && !reference_->scaled && settings_.scaled_refinement) {
+      untested_metric_.insert({p.station_i, p.station_j});
+      continue;
+    }
     const PairTest test = TestPair(p, *reference_, settings_.solver, settings_.change_detection);
     if (const auto after = detector_.Add(test)) return StationPair{*after, p.station_j};
   }
   return std::nullopt;
+}
+
+std::optional<StationPair> Calibrator::DetectChangeBySplit(std::vector<MotionPair> pairs, HandEyeResult* before) {
+  const ChangeDetectionSettings& cd = settings_.change_detection;
+  // The metric motions were computed at the current estimate: off along an unobservable direction, they miss
+  // by far more than their noise (DetectChange), so they are compared only once it is observable.
+  if (!cd.enabled || untested_metric_.empty() || !current_ || !Observable(*current_)) return std::nullopt;
+  std::sort(pairs.begin(), pairs.end(), [](const MotionPair& a, const MotionPair& b) {
+    return std::make_pair(a.station_j, a.station_i) < std::make_pair(b.station_j, b.station_i);
+  });
+  const int n = static_cast<int>(pairs.size());
+  std::vector<int> candidates;
+  for (int k = 0; k < n; ++k) {
+    const StationPair key{pairs[k].station_i, pairs[k].station_j};
+    if (!untested_metric_.count(key)) continue;
+    candidates.push_back(k);
+    // As long as the pair-by-pair rule looks at a pair: while fewer than `window` pairs follow it.
+    if (n - 1 - k >= cd.window) untested_metric_.erase(key);
+  }
+  const SplitTest split = TestSplits(pairs, candidates, current_->T_camera_lidar, settings_.solver,
+                                     cd.confirm_probability, cd.split_min_noise_dof);
+  if (!split.change) return std::nullopt;
+  const std::vector<MotionPair> earlier(pairs.begin(), pairs.begin() + split.across);
+  *before = SolveScaled(earlier, settings_.solver, &current_->T_camera_lidar);
+  if (!before->usable()) *before = *current_;
+  return StationPair{pairs[split.across].station_i, pairs.back().station_j};
 }
 
 const HandEyeResult* Calibrator::Reference() const {
@@ -130,8 +162,8 @@ void Calibrator::Drop(const StationPair& key) {
 }
 
 std::vector<CalibrationVersion> Calibrator::StartAfterChange(int after_station, int decided_at_station,
-                                                             int64_t now_utime) {
-  changes_.push_back({after_station, decided_at_station, reference_->T_camera_lidar, reference_->covariance});
+                                                             const HandEyeResult& before, int64_t now_utime) {
+  changes_.push_back({after_station, decided_at_station, before.T_camera_lidar, before.covariance});
   segment_after_ = after_station;
   std::set<StationPair> past;
   for (const auto* store : {&camera_motions_, &lidar_motions_})
@@ -142,6 +174,7 @@ std::vector<CalibrationVersion> Calibrator::StartAfterChange(int after_station, 
   initial_.reset();
   reference_.reset();
   detector_.Reset();
+  untested_metric_.clear();
   note_ = "extrinsic changed after station " + std::to_string(after_station) + " (decided at station " +
           std::to_string(decided_at_station) + "); solving again from the motions after it";
   return StartRound(now_utime);
@@ -230,7 +263,11 @@ std::vector<CalibrationVersion> Calibrator::OnFusedMotions(int version, const st
     MotionPair p;
     if (m.scaled && PairWithLidar(m, &p)) pairs.push_back(p);
   }
-  if (const auto change = DetectChange(pairs)) return StartAfterChange(change->first, change->second, now_utime);
+  if (const auto change = DetectChange(pairs))
+    return StartAfterChange(change->first, change->second, *reference_, now_utime);
+  HandEyeResult before;
+  if (const auto change = DetectChangeBySplit(pairs, &before))
+    return StartAfterChange(change->first, change->second, before, now_utime);
   HandEyeSettings solver = settings_.solver;
   if (current_->scaled && current_->usable()) solver.previous_verdict = current_->observability;
   HandEyeResult result = SolveScaled(pairs, solver, &current_->T_camera_lidar);

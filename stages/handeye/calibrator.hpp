@@ -139,8 +139,14 @@ class Calibrator {
   // Tests the pairs no solve has taken yet against the current estimate; the station after which the
   // extrinsic changed when the detector decides. Every pair is tested once.
   std::optional<StationPair> DetectChange(std::vector<MotionPair> pairs);  // (after_station, decided_at)
-  // Leaves the pairs before the change (and the one across it) out for good and starts again from the rest.
-  std::vector<CalibrationVersion> StartAfterChange(int after_station, int decided_at_station, int64_t now_utime);
+  // The change-point test (handeye/split_test.hpp) over the metric pairs `pairs` of the current estimate's
+  // version, with the pairs the pair-by-pair test left untested as the candidates; on a change, *before is
+  // the solve of the pairs before it.
+  std::optional<StationPair> DetectChangeBySplit(std::vector<MotionPair> pairs, HandEyeResult* before);
+  // Leaves the pairs before the change (and the one across it) out for good and starts again from the rest;
+  // `before` is the estimate in force until the change.
+  std::vector<CalibrationVersion> StartAfterChange(int after_station, int decided_at_station,
+                                                   const HandEyeResult& before, int64_t now_utime);
   void Drop(const StationPair& key);
 
   CalibratorSettings settings_;
@@ -161,6 +167,9 @@ class Calibrator {
   // Pairs tested (or taken by a solve before there was an estimate to test them against), by the kind of
   // their camera motion: scaleless on arrival, metric in fusion odometry's answer.
   std::set<StationPair> tested_scaleless_, tested_metric_;
+  // Pairs whose metric motion was not tested because the reference was the scaleless estimate (the scaled one
+  // rotation-degenerate): the candidates of the change-point test while fewer than `window` pairs follow them.
+  std::set<StationPair> untested_metric_;
   std::optional<HandEyeResult> reference_;  // what new pairs are tested against
   // What a new pair would be tested against now: the scaled estimate, or the scaleless one while the scaled
   // one is rotation-degenerate.

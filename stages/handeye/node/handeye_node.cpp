@@ -63,6 +63,7 @@ HandEyeNodeSettings ReadHandEyeNodeSettings(ConfigReader r) {
   change.Get("noise_floor_fraction", &s.change_detection.noise_floor_fraction);
   change.Get("test_direction", &s.change_detection.test_direction);
   change.Get("min_direction_length", &s.change_detection.min_direction_length);
+  change.Get("split_min_noise_dof", &s.change_detection.split_min_noise_dof);
   change.Finish();
   ConfigReader shared = r.Child("shared_errors");
   ReadSharedErrors(shared.Child("camera"), &s.solver.shared_camera_errors);

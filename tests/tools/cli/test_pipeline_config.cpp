@@ -107,7 +107,8 @@ TEST(PipelineConfig, ValuesWithinTheSettingsRangesAreAccepted) {
 TEST(PipelineConfig, ChangeDetectionIsReadAndABadValueIsNamed) {
   ConfigReader config = ConfigReader::FromString(
       "handeye: {change_detection: {enabled: false, off_probability: 1.0e-4, confirm_probability: 1.0e-2, window: 5, "
-      "directed_confirm_probability: 0.02, noise_floor_fraction: 0.2, test_direction: true, min_direction_length: 4}}");
+      "directed_confirm_probability: 0.02, noise_floor_fraction: 0.2, test_direction: true, min_direction_length: 4, "
+      "split_min_noise_dof: 9}}");
   const CalibratorSettings s = ReadHandEyeNodeSettings(config.Child("handeye")).calibrator;
   EXPECT_FALSE(s.change_detection.enabled);
   EXPECT_EQ(s.change_detection.off_probability, 1e-4);
@@ -117,6 +118,7 @@ TEST(PipelineConfig, ChangeDetectionIsReadAndABadValueIsNamed) {
   EXPECT_EQ(s.change_detection.noise_floor_fraction, 0.2);
   EXPECT_TRUE(s.change_detection.test_direction);
   EXPECT_EQ(s.change_detection.min_direction_length, 4);
+  EXPECT_EQ(s.change_detection.split_min_noise_dof, 9);
   const std::string bad = ErrorOf("handeye", "change_detection: {off_probability: 0.7}", kHandEye);
   EXPECT_NE(bad.find("change_detection.off_probability"), std::string::npos) << bad;
   const std::string unknown = ErrorOf("handeye", "change_detection: {windows: 3}", kHandEye);
