@@ -414,11 +414,12 @@ class PipelineRun {
       const auto pid = watch_.pids.find("stationarity");
       if (pid == watch_.pids.end()) return false;
       // A new detector process counts from 0: what it has not seen is not in flight.
+      const long done = DetectorFramesDone();
       if (pid->second != detector_pid_) {
         detector_pid_ = pid->second;
-        detector_base_ = raw_frames_played_ - DetectorFramesDone();
+        detector_base_ = raw_frames_played_ - done;
       }
-      return raw_frames_played_ - detector_base_ - DetectorFramesDone() <= kFramesInFlight;
+      return raw_frames_played_ - detector_base_ - done <= kFramesInFlight;
     });
     replay_start_ += Clock::now() - wait_start;
   }

@@ -13,6 +13,13 @@ namespace fusecal {
 namespace {
 
 bool Positive(double v) { return std::isfinite(v) && v > 0; }
+
+// Pairs in the order their motions end (station_j, then station_i).
+void SortByArrival(std::vector<MotionPair>* pairs) {
+  std::sort(pairs->begin(), pairs->end(), [](const MotionPair& a, const MotionPair& b) {
+    return std::make_pair(a.station_j, a.station_i) < std::make_pair(b.station_j, b.station_i);
+  });
+}
 bool NonNegative(double v) { return std::isfinite(v) && v >= 0; }
 
 bool Observable(const HandEyeResult& r) { return r.observability == Observability::kOk; }
@@ -90,9 +97,7 @@ std::vector<CalibrationVersion> Calibrator::OnMotion(const SensorMotion& motion,
 }
 
 std::optional<StationPair> Calibrator::DetectChange(std::vector<MotionPair> pairs) {
-  std::sort(pairs.begin(), pairs.end(), [](const MotionPair& a, const MotionPair& b) {
-    return std::make_pair(a.station_j, a.station_i) < std::make_pair(b.station_j, b.station_i);
-  });
+  SortByArrival(&pairs);
   for (const MotionPair& p : pairs) {
     auto& tested = p.camera_scaled ? tested_metric_ : tested_scaleless_;
     if (!tested.insert({p.station_i, p.station_j}).second) continue;
@@ -122,9 +127,7 @@ std::optional<StationPair> Calibrator::DetectChangeBySplit(std::vector<MotionPai
   // The metric motions were computed at the current estimate: off along an unobservable direction, they miss
   // by far more than their noise (DetectChange), so they are compared only once it is observable.
   if (!cd.enabled || untested_metric_.empty() || !current_ || !Observable(*current_)) return std::nullopt;
-  std::sort(pairs.begin(), pairs.end(), [](const MotionPair& a, const MotionPair& b) {
-    return std::make_pair(a.station_j, a.station_i) < std::make_pair(b.station_j, b.station_i);
-  });
+  SortByArrival(&pairs);
   const int n = static_cast<int>(pairs.size());
   std::vector<int> candidates;
   for (int k = 0; k < n; ++k) {

@@ -11,7 +11,7 @@ namespace fusecal {
 
 namespace {
 
-// The whitened translation rows W (R_a - I) t = W (R t_b - t_a) of one pair; empty when not finite.
+// The whitened translation rows W (R_a - I) t = W (R t_b - t_a) of one pair; not usable when not finite.
 struct PairRows {
   Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
   Eigen::Vector3d y = Eigen::Vector3d::Zero();
@@ -23,8 +23,9 @@ PairRows RowsOf(const MotionPair& pair, const Isometry3& X, const handeye::Noise
   const Matrix6 C = handeye::ResidualCovariance(pair, R, X.translation(), noise);
   const Eigen::Matrix3d W = handeye::WhiteningMatrix(C.bottomRightCorner<3, 3>());
   PairRows rows;
-  rows.M = W * (pair.A.linear() - Eigen::Matrix3d::Identity());
-  rows.y = W * (R * pair.B.translation() - pair.A.translation());
+  // r_t = (R_a - I) t + t_a - R t_b: its Jacobian in t, and its value at t = 0 is -y.
+  rows.M = W * handeye::JacobianWrtExtrinsic(pair, R).bottomRightCorner<3, 3>();
+  rows.y = -W * handeye::TranslationResidual(pair, R, Eigen::Vector3d::Zero());
   rows.usable = rows.M.allFinite() && rows.y.allFinite();
   return rows;
 }
