@@ -6,6 +6,7 @@
 #include "stages/foundation/se3.hpp"
 #include "stages/handeye/split_test.hpp"
 #include "stages/handeye/synthetic_motions.hpp"
+#include "tests/support/turn_pair.hpp"
 
 namespace fusecal {
 namespace {
@@ -81,30 +82,19 @@ TEST(SplitTest, TurnsAboutOneAxisLeaveTheTranslationAlongItOutOfTheChange) {
   Isometry3 X = Isometry3::Identity();
   X.linear() = ExpSO3(Eigen::Vector3d(0.3, -1.2, 0.4));
   X.translation() = Eigen::Vector3d(0.05, 0.1, -0.02);
-  std::mt19937 rng(4);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  const auto pair = [&](int i, const Eigen::Vector3d& rotation_vector, const Isometry3& X_i, const Isometry3& X_j) {
-    MotionPair p;
-    p.station_i = i;
-    p.station_j = i + 1;
-    p.B = Isometry3::Identity();
-    p.B.linear() = ExpSO3(rotation_vector);
-    p.B.translation() = Eigen::Vector3d(0.2 * noise(rng), 0.2 * noise(rng), 0.1 * noise(rng));
-    p.A = X_i * p.B * X_j.inverse();
-    p.A.translation() += kTranslationNoiseM * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
-    p.camera_scaled = true;
-    return p;
-  };
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), z = Eigen::Vector3d::UnitZ();
   for (const double shift_z : {0.0, 0.03}) {
+    std::mt19937 rng(4);
     Isometry3 X_after = X;
     X_after.translation() += X.linear() * Eigen::Vector3d(0, 0, shift_z);
-    const std::vector<MotionPair> pairs{pair(0, {0, 0, 0.3}, X, X),
-                                        pair(1, {0, 0, -0.4}, X, X),
-                                        pair(2, {0, 0, 0.35}, X, X),
-                                        pair(3, {0.2, 0.1, 0.2}, X, X_after),
-                                        pair(4, {0.3, 0, 0}, X_after, X_after),
-                                        pair(5, {0, 0.3, 0.1}, X_after, X_after),
-                                        pair(6, {0.1, -0.3, 0}, X_after, X_after)};
+    const std::vector<MotionPair> pairs{
+        Turn(0, z, 17, {0.2, -0.1, 0.05}, X, X, rng),
+        Turn(1, z, -23, {-0.1, 0.3, -0.1}, X, X, rng),
+        Turn(2, z, 20, {0.15, 0.05, 0.1}, X, X, rng),
+        Turn(3, Eigen::Vector3d(2, 1, 2), 17, {0.05, 0, 0.1}, X, X_after, rng),  // across the split
+        Turn(4, x, 17, {0.0, 0.2, -0.1}, X_after, X_after, rng),
+        Turn(5, Eigen::Vector3d(0, 3, 1), 18, {0.1, 0, 0.2}, X_after, X_after, rng),
+        Turn(6, Eigen::Vector3d(1, -3, 0), -18, {-0.2, 0.1, 0}, X_after, X_after, rng)};
     const SplitTest split = TestSplits(pairs, {3}, X, Nominal(), 1e-3, 6);
     EXPECT_EQ(split.change_dof, 2);
     EXPECT_FALSE(split.change) << "a shift of " << shift_z << " m along the only turn axis";
